@@ -1,0 +1,401 @@
+// The `isg` executable: argument parsing and printing only; the work is in lib/.
+#include <CLI/CLI.hpp>
+#include <nlohmann/json.hpp>
+#include <unistd.h>
+
+#include <chrono>
+#include <cstdio>
+#include <filesystem>
+#include <iomanip>
+#include <iostream>
+#include <sstream>
+
+#include "effects/params.h"
+#include "gpu/gpu.h"
+#include "io/image.h"
+#include "io/roles.h"
+#include "io/scene.h"
+#include "metrics/compare.h"
+#include "plan/plan.h"
+#include "run/run.h"
+
+#ifndef ISG_VERSION
+#define ISG_VERSION "0.0.0"
+#endif
+#ifndef ISG_SOURCE_PRESETS
+#define ISG_SOURCE_PRESETS ""
+#endif
+
+namespace fs = std::filesystem;
+using json = nlohmann::json;
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+double ms_since(Clock::time_point t) {
+  return std::chrono::duration<double, std::milli>(Clock::now() - t).count();
+}
+
+// Shipped presets: $ISG_PRESET_PATH (colon-separated), <exe>/../share/isg/presets, the source tree.
+std::vector<fs::path> preset_dirs() {
+  std::vector<fs::path> dirs;
+  if (const char* env = std::getenv("ISG_PRESET_PATH")) {
+    std::stringstream ss(env);
+    std::string d;
+    while (std::getline(ss, d, ':'))
+      if (!d.empty()) dirs.emplace_back(d);
+  }
+  std::error_code ec;
+  fs::path exe = fs::read_symlink("/proc/self/exe", ec);
+  if (!ec) dirs.push_back(exe.parent_path().parent_path() / "share" / "isg" / "presets");
+  if (std::string(ISG_SOURCE_PRESETS).size()) dirs.emplace_back(ISG_SOURCE_PRESETS);
+  return dirs;
+}
+
+struct Common {
+  std::string scene;
+  std::string preset;
+  std::vector<std::string> sets;
+  std::vector<std::string> channels;
+  std::string layer;
+};
+
+void add_common(CLI::App* app, Common& c) {
+  app->add_option("--scene", c.scene, "scene file (JSON, AOV_CONTRACT.md input 3)");
+  app->add_option("--preset", c.preset, "preset name (see `isg presets`) or TOML file");
+  app->add_option("--set", c.sets, "override a parameter: section.key=value (repeatable)");
+  app->add_option("--channel", c.channels, "map a role to channels: ROLE=NAME (repeatable)");
+  app->add_option("--layer", c.layer, "Blender view layer to read");
+}
+
+isg::params::Params build_params(const Common& c, const std::string& compression) {
+  auto p = isg::effects::default_params();
+  if (!c.preset.empty()) p.load_preset(c.preset, preset_dirs());
+  if (!compression.empty()) p.set_text("output.compression", compression, "--compression");
+  for (const auto& s : c.sets) {
+    auto eq = s.find('=');
+    if (eq == std::string::npos) throw isg::params::ParamError("--set " + s + ": expected KEY=VALUE");
+    p.set_text(s.substr(0, eq), s.substr(eq + 1), "--set");
+  }
+  return p;
+}
+
+isg::io::Scene load_scene(const Common& c) {
+  if (c.scene.empty()) return isg::io::Scene{};
+  return isg::io::read_scene(c.scene);
+}
+
+isg::io::RoleRequest role_request(const Common& c, const isg::params::Params& p,
+                                  const isg::io::Scene& scene) {
+  isg::io::RoleRequest req;
+  for (const auto& l : scene.lights) req.light_names.push_back(l.name);
+  req.layer = c.layer;
+  for (const auto& [role, e] : p.channels()) {
+    req.overrides[role] = e.name;
+    req.override_how[role] = "[channels] " + e.where;
+  }
+  for (const auto& s : c.channels) {
+    auto eq = s.find('=');
+    if (eq == std::string::npos || eq == 0 || eq + 1 == s.size()) {
+      throw isg::io::IoError("--channel " + s + ": expected ROLE=NAME");
+    }
+    req.overrides[s.substr(0, eq)] = s.substr(eq + 1);
+    req.override_how[s.substr(0, eq)] = "--channel";
+  }
+  return req;
+}
+
+void check_override_roles(const isg::io::RoleRequest& req, const isg::io::Roles& roles) {
+  for (const auto& [role, name] : req.overrides) {
+    if (!isg::io::is_known_role(role, roles.lights)) {
+      auto how = req.override_how.find(role);
+      throw isg::io::IoError((how == req.override_how.end() ? "--channel" : how->second) + ": " +
+                             role + "=" + name + ": unknown role " + role);
+    }
+  }
+}
+
+isg::io::ReadLimits limits_of(const isg::params::Params& p) {
+  isg::io::ReadLimits l;
+  l.max_pixels = int64_t(p.number("limits.max_megapixels") * 1e6);
+  l.max_channels = int(p.integer("limits.max_channels"));
+  l.max_bytes = int64_t(p.integer("limits.max_memory_mb")) << 20;
+  return l;
+}
+
+std::string join(const std::vector<std::string>& v, const char* sep = " ") {
+  std::string s;
+  for (const auto& e : v) s += (s.empty() ? "" : sep) + e;
+  return s;
+}
+
+// ---- isg run ----
+
+struct RunArgs {
+  Common common;
+  std::string input, output, device, compression;
+  bool require_gpu = false, timings = false, dry_run = false, print_preset = false;
+  bool no_clobber = false, validation = false;
+};
+
+int cmd_run(const RunArgs& a) {
+  auto t_start = Clock::now();
+  auto p = build_params(a.common, a.compression);
+  if (a.print_preset) {
+    std::cout << p.to_toml();
+    return 0;
+  }
+  if (a.input.empty()) throw isg::io::IoError("isg run: no input file given");
+  if (a.output.empty() && !a.dry_run) throw isg::io::IoError("isg run: no output given (-o FILE)");
+  isg::io::WriteOptions wopt{p.choice("output.compression"), a.no_clobber};
+  if (!a.dry_run) {
+    std::error_code ec;
+    if (fs::exists(a.output, ec) && fs::equivalent(a.input, a.output, ec)) {
+      throw isg::io::IoError(a.output + ": is the input file; isg never overwrites its input");
+    }
+    isg::io::check_writable(a.output, wopt);
+  }
+  auto scene = load_scene(a.common);
+  auto header = isg::io::read_exr_header(a.input, limits_of(p));
+  auto req = role_request(a.common, p, scene);
+  auto roles = isg::io::resolve_roles(header.channel_names(), req, a.input);
+  check_override_roles(req, roles);
+  auto plan = isg::plan::make_plan(roles, scene, p, header.width, header.height);
+  if (a.dry_run) {
+    std::cout << plan.describe();
+    return plan.missing.empty() ? 0 : 1;
+  }
+  if (!plan.missing.empty()) {
+    throw isg::io::IoError(a.input + ": missing required channels for role " + plan.missing.front());
+  }
+  auto t_read = Clock::now();
+  auto img = isg::io::read_exr(a.input, limits_of(p));
+  double read_ms = ms_since(t_read);
+  for (const auto& nf : isg::io::sanitize(img)) {
+    std::cerr << "isg: warning: " << a.input << ": channel " << nf.channel << " had " << nf.count
+              << " NaN/Inf values, set to 0\n";
+  }
+
+  auto t_gpu = Clock::now();
+  isg::gpu::ContextOptions copt;
+  copt.device = a.device;
+  copt.require_gpu = a.require_gpu;
+  copt.validation = a.validation;
+  copt.on_message = [](const std::string& m) { std::cerr << "isg: vulkan: " << m << "\n"; };
+  isg::gpu::Context ctx(copt);
+  double init_ms = ms_since(t_gpu);
+  auto stats = isg::run::execute(ctx, plan, roles, img);
+
+  // Provenance: tool version, device, preset, every parameter.
+  img.attributes.remove("isg:version");
+  img.attributes.attribute("isg:version", ISG_VERSION);
+  img.attributes.attribute("isg:device", ctx.info().name + " (" + ctx.info().type_name + ")");
+  img.attributes.attribute("isg:preset", p.preset_name());
+  for (const auto& d : p.defs()) img.attributes.attribute("isg:param:" + d.key, p.text(d.key));
+  img.attributes.attribute("isg:input", fs::absolute(a.input).string());
+  if (!a.common.scene.empty()) img.attributes.attribute("isg:scene", fs::absolute(a.common.scene).string());
+
+  auto t_write = Clock::now();
+  isg::io::write_exr(a.output, img, wopt);
+  double write_ms = ms_since(t_write);
+  std::cout << "wrote " << a.output << " (" << img.width << "x" << img.height << ", "
+            << img.channels.size() << " channels)\n";
+  if (a.timings) {
+    std::cout << std::fixed << std::setprecision(3);
+    std::cout << "device: " << ctx.info().name << " (" << ctx.info().type_name << ")\n";
+    std::cout << "GPU time per pass (timestamp queries):\n";
+    for (const auto& t : stats.passes) std::cout << "  " << std::left << std::setw(28) << t.name << t.ms << " ms\n";
+    std::cout << "  " << std::setw(28) << "total" << stats.gpu_ms() << " ms\n";
+    std::cout << "wall: read " << read_ms << " ms, device init " << init_ms << " ms, upload "
+              << stats.upload_ms << " ms, record " << stats.record_ms << " ms, submit+wait "
+              << stats.gpu_wall_ms << " ms, download " << stats.download_ms << " ms, write "
+              << write_ms << " ms, total " << ms_since(t_start) << " ms\n";
+    std::cout << "GPU memory for the plan: " << plan.gpu_bytes() / 1024 << " KiB\n";
+  }
+  return 0;
+}
+
+// ---- isg info ----
+
+int cmd_info(const Common& c, const std::string& input, bool as_json) {
+  auto p = build_params(c, "");
+  auto scene = load_scene(c);
+  auto img = isg::io::read_exr_header(input, limits_of(p));
+  auto req = role_request(c, p, scene);
+  auto roles = isg::io::resolve_roles(img.channel_names(), req, input);
+  check_override_roles(req, roles);
+  std::optional<isg::io::Camera> cam = scene.camera;
+  if (!cam) cam = isg::io::camera_from_header(img);
+  auto caps = isg::plan::capabilities(roles, scene, cam.has_value());
+
+  std::vector<std::string> all_roles = isg::io::global_roles();
+  for (const auto& l : roles.lights)
+    for (const auto& s : isg::io::light_role_suffixes()) all_roles.push_back(l + "." + s);
+
+  if (as_json) {
+    json j;
+    j["file"] = input;
+    j["width"] = img.width;
+    j["height"] = img.height;
+    j["parts"] = img.parts;
+    j["channels"] = img.channel_names();
+    j["layer"] = roles.layer;
+    j["lights"] = roles.lights;
+    j["camera"] = cam ? json(cam->source) : json(nullptr);
+    for (const auto& r : all_roles) {
+      const auto* b = roles.get(r);
+      j["roles"][r] = b ? json{{"channels", b->terms}, {"how", b->how}} : json(nullptr);
+    }
+    for (const auto& e : caps) j["effects"][e.effect] = {{"can_run", e.runs}, {"why", e.why}};
+    std::cout << j.dump(2) << "\n";
+    return 0;
+  }
+  std::cout << input << ": " << img.width << "x" << img.height << ", " << img.parts << " part"
+            << (img.parts > 1 ? "s" : "") << ", " << img.channels.size() << " channels\n";
+  if (!roles.layer.empty()) std::cout << "view layer: " << roles.layer << "\n";
+  std::cout << "roles:\n";
+  for (const auto& r : all_roles) {
+    const auto* b = roles.get(r);
+    std::cout << "  " << std::left << std::setw(14) << r;
+    if (!b) {
+      std::cout << "-\n";
+      continue;
+    }
+    std::string chans;
+    for (const auto& t : b->terms) chans += (chans.empty() ? "" : " + ") + join(t, ",");
+    std::cout << chans << "  (" << b->how << ")\n";
+  }
+  std::cout << "camera: " << (cam ? cam->source : std::string("none")) << "\n";
+  std::cout << "effects:\n";
+  for (const auto& e : caps) {
+    std::cout << "  " << std::left << std::setw(14) << e.effect
+              << (e.runs ? "can run" : "cannot run: " + e.why) << "\n";
+  }
+  return 0;
+}
+
+// ---- isg compare ----
+
+int cmd_compare(const std::string& a_path, const std::string& b_path, const std::string& mask_name,
+                const std::vector<std::string>& channels, bool as_json) {
+  auto a = isg::io::read_exr(a_path);
+  auto b = isg::io::read_exr(b_path);
+  std::vector<float> mask;
+  if (!mask_name.empty()) {
+    const isg::io::Channel* m = b.find(mask_name);
+    if (!m) m = a.find(mask_name);
+    if (!m) throw isg::io::IoError("--mask " + mask_name + ": neither " + a_path + " nor " + b_path + " has that channel");
+    mask = m->data;
+  }
+  auto r = isg::metrics::compare(a, b, channels, mask);
+  if (as_json) {
+    json j;
+    auto row = [](const isg::metrics::Metrics& m) {
+      return json{{"channel", m.channel}, {"pixels", m.pixels}, {"rmse", m.rmse},
+                  {"psnr", std::isfinite(m.psnr) ? json(m.psnr) : json("inf")},
+                  {"mean_abs", m.mean_abs}, {"max_abs", m.max_abs}, {"ssim", m.ssim}};
+    };
+    for (const auto& m : r.channels) j["channels"].push_back(row(m));
+    j["all"] = row(r.all);
+    std::cout << j.dump(2) << "\n";
+    return 0;
+  }
+  std::cout << std::left << std::setw(20) << "channel" << std::right << std::setw(10) << "pixels"
+            << std::setw(12) << "RMSE" << std::setw(10) << "PSNR" << std::setw(12) << "mean abs"
+            << std::setw(12) << "max abs" << std::setw(10) << "SSIM" << "\n";
+  auto print = [](const isg::metrics::Metrics& m) {
+    std::cout << std::left << std::setw(20) << m.channel << std::right << std::setw(10) << m.pixels
+              << std::setw(12) << std::setprecision(6) << std::fixed << m.rmse << std::setw(10)
+              << std::setprecision(2) << m.psnr << std::setw(12) << std::setprecision(6)
+              << m.mean_abs << std::setw(12) << m.max_abs << std::setw(10) << std::setprecision(4)
+              << m.ssim << "\n";
+  };
+  for (const auto& m : r.channels) print(m);
+  print(r.all);
+  return 0;
+}
+
+int cmd_devices() {
+  auto devs = isg::gpu::list_devices();
+  for (const auto& d : devs) {
+    std::cout << d.index << ": " << d.name << " (" << d.type_name << ", Vulkan "
+              << VK_API_VERSION_MAJOR(d.api_version) << "." << VK_API_VERSION_MINOR(d.api_version)
+              << ", " << (d.device_local_bytes >> 20) << " MiB, timestamps "
+              << (d.timestamps ? "yes" : "no") << ")\n";
+  }
+  if (devs.empty()) std::cout << "no Vulkan devices\n";
+  return 0;
+}
+
+int cmd_presets() {
+  for (const auto& p : isg::params::list_presets(preset_dirs())) {
+    std::cout << std::left << std::setw(20) << p.name << p.description << "\n";
+  }
+  return 0;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  CLI::App app{"isg: soft shadows, glossy reflections and depth of field from a renderer's AOVs"};
+  app.set_version_flag("--version", ISG_VERSION);
+  app.require_subcommand(1);
+
+  RunArgs ra;
+  auto* run = app.add_subcommand("run", "process an AOV EXR and write the composite");
+  run->add_option("input", ra.input, "input AOV EXR");
+  run->add_option("-o,--output", ra.output, "output EXR");
+  add_common(run, ra.common);
+  run->add_option("--device", ra.device, "device index or name (see `isg devices`)");
+  run->add_flag("--require-gpu", ra.require_gpu, "fail when only a CPU Vulkan device exists");
+  run->add_flag("--timings", ra.timings, "print GPU time per pass and wall time per stage");
+  run->add_flag("--dry-run", ra.dry_run, "print the plan (passes, resources) and stop");
+  run->add_flag("--print-preset", ra.print_preset, "print every parameter's value as TOML and stop");
+  run->add_option("--compression", ra.compression, "EXR compression (output.compression)");
+  run->add_flag("--no-clobber", ra.no_clobber, "fail rather than replace an existing output");
+  run->add_flag("--validation", ra.validation, "enable the Khronos validation layer");
+
+  Common ic;
+  std::string info_input;
+  bool info_json = false;
+  auto* info = app.add_subcommand("info", "roles found, channels, camera, which effects can run");
+  info->add_option("input", info_input, "AOV EXR")->required();
+  add_common(info, ic);
+  info->add_flag("--json", info_json, "machine-readable output");
+
+  std::string ca, cb, cmask;
+  std::vector<std::string> cchan;
+  bool cjson = false;
+  auto* cmp = app.add_subcommand("compare", "error metrics of A against B, per channel");
+  cmp->add_option("a", ca, "image")->required();
+  cmp->add_option("b", cb, "reference")->required();
+  cmp->add_option("--mask", cmask, "channel (in B, else A) selecting the pixels to count");
+  cmp->add_option("--channels", cchan, "channels to compare (default: all both have)")->delimiter(',');
+  cmp->add_flag("--json", cjson, "machine-readable output");
+
+  auto* devices = app.add_subcommand("devices", "list Vulkan devices");
+  auto* presets = app.add_subcommand("presets", "list shipped presets");
+
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::ParseError& e) {
+    return app.exit(e);
+  }
+  try {
+    if (*run) return cmd_run(ra);
+    if (*info) return cmd_info(ic, info_input, info_json);
+    if (*cmp) return cmd_compare(ca, cb, cmask, cchan, cjson);
+    if (*devices) return cmd_devices();
+    if (*presets) return cmd_presets();
+  } catch (const std::bad_alloc&) {
+    std::cerr << "isg: error: out of memory\n";
+    return 1;
+  } catch (const std::exception& e) {
+    std::string msg = e.what();
+    auto nl = msg.find('\n');
+    if (nl != std::string::npos) msg.resize(nl);
+    std::cerr << "isg: error: " << msg << "\n";
+    return 1;
+  }
+  return 0;
+}

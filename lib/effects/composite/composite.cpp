@@ -1,0 +1,66 @@
+#include "effects/composite/composite.h"
+
+#include "composite_term_io.h"
+#include "foreground_io.h"
+#include "isg/shaders/composite_term.spv.h"
+#include "isg/shaders/foreground.spv.h"
+
+namespace isg::effects {
+
+std::vector<float> foreground_reference(const float* alpha, const float* depth, size_t n) {
+  std::vector<float> fg(n, 1.0f);
+  for (size_t i = 0; i < n; ++i) {
+    bool bg = false;
+    if (alpha) bg = bg || alpha[i] == 0.0f;
+    if (depth) bg = bg || depth[i] <= 0.0f || double(depth[i]) >= ISG_BACKGROUND_DEPTH;
+    fg[i] = bg ? 0.0f : 1.0f;
+  }
+  return fg;
+}
+
+void composite_term_reference(std::vector<float>& C, const std::vector<float>& W,
+                              const std::vector<float>& X, const std::vector<float>& Y,
+                              int x_planes, const std::vector<float>& fg, size_t n) {
+  for (size_t i = 0; i < n; ++i) {
+    if (fg[i] == 0.0f) continue;
+    for (size_t c = 0; c < 3; ++c) {
+      size_t xc = x_planes == 1 ? 0 : c;
+      double d = double(X[xc * n + i]) - double(Y[xc * n + i]);
+      C[c * n + i] = float(double(C[c * n + i]) + double(W[c * n + i]) * d);
+    }
+  }
+}
+
+ForegroundPass::ForegroundPass(gpu::Context& ctx)
+    : kernel_(ctx, "foreground", isg_spv_foreground,
+              {gpu::Slot::buffer, gpu::Slot::buffer, gpu::Slot::buffer},
+              sizeof(shaders::ForegroundPush), FOREGROUND_LOCAL, FOREGROUND_LOCAL) {}
+
+void ForegroundPass::record(gpu::Sequence& seq, const gpu::Buffer& composite, bool has_alpha,
+                            const gpu::Buffer* depth, const gpu::Buffer& fg, uint32_t w,
+                            uint32_t h) {
+  shaders::ForegroundPush pc{w, h, has_alpha ? 1u : 0u, depth ? 1u : 0u};
+  // Without depth the slot is bound to the composite and never read.
+  const gpu::Buffer& d = depth ? *depth : composite;
+  seq.dispatch(kernel_,
+               {gpu::Binding::of(composite), gpu::Binding::of(d), gpu::Binding::of(fg)}, pc, w,
+               h, "foreground");
+}
+
+CompositeTermPass::CompositeTermPass(gpu::Context& ctx)
+    : kernel_(ctx, "composite_term", isg_spv_composite_term,
+              std::vector<gpu::Slot>(5, gpu::Slot::buffer), sizeof(shaders::CompositeTermPush),
+              COMPOSITE_TERM_LOCAL, COMPOSITE_TERM_LOCAL) {}
+
+void CompositeTermPass::record(gpu::Sequence& seq, const gpu::Buffer& C, const gpu::Buffer& W,
+                               const gpu::Buffer& X, const gpu::Buffer& Y, uint32_t x_planes,
+                               const gpu::Buffer& fg, uint32_t w, uint32_t h,
+                               const std::string& label) {
+  shaders::CompositeTermPush pc{w, h, x_planes, 0u};
+  seq.dispatch(kernel_,
+               {gpu::Binding::of(C), gpu::Binding::of(W), gpu::Binding::of(X), gpu::Binding::of(Y),
+                gpu::Binding::of(fg)},
+               pc, w, h, label);
+}
+
+}  // namespace isg::effects

@@ -1,0 +1,314 @@
+#include <algorithm>
+#include <cstring>
+
+#include "gpu/gpu.h"
+
+namespace isg::gpu {
+
+void check(VkResult r, const char* what) {
+  if (r != VK_SUCCESS) {
+    throw GpuError(std::string("Vulkan: ") + what + " failed (VkResult " + std::to_string(r) +
+                   ")");
+  }
+}
+
+namespace {
+
+const char* kValidationLayer = "VK_LAYER_KHRONOS_validation";
+
+std::string type_name(VkPhysicalDeviceType t) {
+  switch (t) {
+    case VK_PHYSICAL_DEVICE_TYPE_DISCRETE_GPU: return "discrete";
+    case VK_PHYSICAL_DEVICE_TYPE_INTEGRATED_GPU: return "integrated";
+    case VK_PHYSICAL_DEVICE_TYPE_VIRTUAL_GPU: return "virtual";
+    case VK_PHYSICAL_DEVICE_TYPE_CPU: return "cpu";
+    default: return "other";
+  }
+}
+
+// Lower is preferred: discrete > integrated > virtual > cpu > other.
+int type_rank(VkPhysicalDeviceType t) {
+  switch (t) {
+    case VK_PHYSICAL_DEVICE_TYPE_DISCRETE_GPU: return 0;
+    case VK_PHYSICAL_DEVICE_TYPE_INTEGRATED_GPU: return 1;
+    case VK_PHYSICAL_DEVICE_TYPE_VIRTUAL_GPU: return 2;
+    case VK_PHYSICAL_DEVICE_TYPE_CPU: return 3;
+    default: return 4;
+  }
+}
+
+bool has_layer(const char* name) {
+  uint32_t n = 0;
+  vkEnumerateInstanceLayerProperties(&n, nullptr);
+  std::vector<VkLayerProperties> layers(n);
+  vkEnumerateInstanceLayerProperties(&n, layers.data());
+  return std::any_of(layers.begin(), layers.end(),
+                     [&](const VkLayerProperties& l) { return std::strcmp(l.layerName, name) == 0; });
+}
+
+bool has_instance_extension(const char* name) {
+  uint32_t n = 0;
+  vkEnumerateInstanceExtensionProperties(nullptr, &n, nullptr);
+  std::vector<VkExtensionProperties> ext(n);
+  vkEnumerateInstanceExtensionProperties(nullptr, &n, ext.data());
+  return std::any_of(ext.begin(), ext.end(), [&](const VkExtensionProperties& e) {
+    return std::strcmp(e.extensionName, name) == 0;
+  });
+}
+
+// Compute queue family with timestamps if possible.
+int compute_family(VkPhysicalDevice pd, bool* timestamps) {
+  uint32_t n = 0;
+  vkGetPhysicalDeviceQueueFamilyProperties(pd, &n, nullptr);
+  std::vector<VkQueueFamilyProperties> fams(n);
+  vkGetPhysicalDeviceQueueFamilyProperties(pd, &n, fams.data());
+  int best = -1;
+  for (uint32_t i = 0; i < n; ++i) {
+    if (!(fams[i].queueFlags & VK_QUEUE_COMPUTE_BIT)) continue;
+    if (best < 0 || (fams[i].timestampValidBits > 0 && fams[best].timestampValidBits == 0)) {
+      best = static_cast<int>(i);
+    }
+  }
+  if (best >= 0 && timestamps) *timestamps = fams[best].timestampValidBits > 0;
+  return best;
+}
+
+DeviceInfo describe(VkPhysicalDevice pd, uint32_t index) {
+  VkPhysicalDeviceProperties p{};
+  vkGetPhysicalDeviceProperties(pd, &p);
+  VkPhysicalDeviceMemoryProperties mp{};
+  vkGetPhysicalDeviceMemoryProperties(pd, &mp);
+  DeviceInfo d;
+  d.index = index;
+  d.name = p.deviceName;
+  d.type = p.deviceType;
+  d.type_name = type_name(p.deviceType);
+  d.api_version = p.apiVersion;
+  d.max_storage_buffer_range = p.limits.maxStorageBufferRange;
+  for (int i = 0; i < 3; ++i) d.max_workgroup_count[i] = p.limits.maxComputeWorkGroupCount[i];
+  d.max_image_dimension_2d = p.limits.maxImageDimension2D;
+  for (uint32_t i = 0; i < mp.memoryHeapCount; ++i) {
+    if (mp.memoryHeaps[i].flags & VK_MEMORY_HEAP_DEVICE_LOCAL_BIT) {
+      d.device_local_bytes = std::max<uint64_t>(d.device_local_bytes, mp.memoryHeaps[i].size);
+    }
+  }
+  bool ts = false;
+  compute_family(pd, &ts);
+  d.timestamps = ts && p.limits.timestampComputeAndGraphics;
+  return d;
+}
+
+VkInstance make_instance(bool validation, bool debug_utils) {
+  VkApplicationInfo app{VK_STRUCTURE_TYPE_APPLICATION_INFO};
+  app.pApplicationName = "isg";
+  app.apiVersion = VK_API_VERSION_1_1;
+  std::vector<const char*> layers;
+  std::vector<const char*> exts;
+  if (validation) layers.push_back(kValidationLayer);
+  if (debug_utils) exts.push_back(VK_EXT_DEBUG_UTILS_EXTENSION_NAME);
+  VkInstanceCreateInfo ci{VK_STRUCTURE_TYPE_INSTANCE_CREATE_INFO};
+  ci.pApplicationInfo = &app;
+  ci.enabledLayerCount = static_cast<uint32_t>(layers.size());
+  ci.ppEnabledLayerNames = layers.data();
+  ci.enabledExtensionCount = static_cast<uint32_t>(exts.size());
+  ci.ppEnabledExtensionNames = exts.data();
+  VkInstance inst = VK_NULL_HANDLE;
+  check(vkCreateInstance(&ci, nullptr, &inst), "vkCreateInstance");
+  return inst;
+}
+
+std::vector<VkPhysicalDevice> physical_devices(VkInstance inst) {
+  uint32_t n = 0;
+  check(vkEnumeratePhysicalDevices(inst, &n, nullptr), "vkEnumeratePhysicalDevices");
+  std::vector<VkPhysicalDevice> pds(n);
+  check(vkEnumeratePhysicalDevices(inst, &n, pds.data()), "vkEnumeratePhysicalDevices");
+  return pds;
+}
+
+VKAPI_ATTR VkBool32 VKAPI_CALL debug_callback(VkDebugUtilsMessageSeverityFlagBitsEXT severity,
+                                              VkDebugUtilsMessageTypeFlagsEXT,
+                                              const VkDebugUtilsMessengerCallbackDataEXT* data,
+                                              void* user) {
+  if (severity >= VK_DEBUG_UTILS_MESSAGE_SEVERITY_WARNING_BIT_EXT && data && data->pMessage) {
+    static_cast<Context*>(user)->on_message(data->pMessage);
+  }
+  return VK_FALSE;
+}
+
+}  // namespace
+
+std::vector<DeviceInfo> list_devices() {
+  VkInstance inst = make_instance(false, false);
+  std::vector<DeviceInfo> out;
+  try {
+    auto pds = physical_devices(inst);
+    for (uint32_t i = 0; i < pds.size(); ++i) out.push_back(describe(pds[i], i));
+  } catch (...) {
+    vkDestroyInstance(inst, nullptr);
+    throw;
+  }
+  vkDestroyInstance(inst, nullptr);
+  return out;
+}
+
+Context::Context(const ContextOptions& opt) : user_callback_(opt.on_message) {
+  if (opt.validation && !has_layer(kValidationLayer)) {
+    throw GpuError(std::string("validation requested but ") + kValidationLayer +
+                   " is not installed (Debian package vulkan-validationlayers)");
+  }
+  debug_utils_ = has_instance_extension(VK_EXT_DEBUG_UTILS_EXTENSION_NAME);
+  instance_ = make_instance(opt.validation, debug_utils_);
+  try {
+    if (debug_utils_ && opt.validation) {
+      auto create = reinterpret_cast<PFN_vkCreateDebugUtilsMessengerEXT>(
+          vkGetInstanceProcAddr(instance_, "vkCreateDebugUtilsMessengerEXT"));
+      VkDebugUtilsMessengerCreateInfoEXT mi{VK_STRUCTURE_TYPE_DEBUG_UTILS_MESSENGER_CREATE_INFO_EXT};
+      mi.messageSeverity = VK_DEBUG_UTILS_MESSAGE_SEVERITY_WARNING_BIT_EXT |
+                           VK_DEBUG_UTILS_MESSAGE_SEVERITY_ERROR_BIT_EXT;
+      mi.messageType = VK_DEBUG_UTILS_MESSAGE_TYPE_GENERAL_BIT_EXT |
+                       VK_DEBUG_UTILS_MESSAGE_TYPE_VALIDATION_BIT_EXT |
+                       VK_DEBUG_UTILS_MESSAGE_TYPE_PERFORMANCE_BIT_EXT;
+      mi.pfnUserCallback = debug_callback;
+      mi.pUserData = this;
+      if (create) check(create(instance_, &mi, nullptr, &messenger_), "create debug messenger");
+    }
+    auto pds = physical_devices(instance_);
+    if (pds.empty()) throw GpuError("no Vulkan device found (install mesa-vulkan-drivers)");
+    std::vector<DeviceInfo> infos;
+    for (uint32_t i = 0; i < pds.size(); ++i) infos.push_back(describe(pds[i], i));
+
+    int chosen = -1;
+    if (opt.device.empty()) {
+      for (uint32_t i = 0; i < infos.size(); ++i) {
+        if (compute_family(pds[i], nullptr) < 0) continue;
+        if (chosen < 0 || type_rank(infos[i].type) < type_rank(infos[chosen].type)) {
+          chosen = static_cast<int>(i);
+        }
+      }
+    } else if (std::all_of(opt.device.begin(), opt.device.end(), ::isdigit)) {
+      int idx = std::stoi(opt.device);
+      if (idx < 0 || idx >= static_cast<int>(infos.size())) {
+        throw GpuError("--device " + opt.device + ": no such device index (see `isg devices`)");
+      }
+      chosen = idx;
+    } else {
+      for (uint32_t i = 0; i < infos.size(); ++i) {
+        if (infos[i].name.find(opt.device) != std::string::npos) {
+          chosen = static_cast<int>(i);
+          break;
+        }
+      }
+      if (chosen < 0) {
+        throw GpuError("--device " + opt.device + ": no device name contains it (see `isg devices`)");
+      }
+    }
+    if (chosen < 0) throw GpuError("no Vulkan device with a compute queue");
+    info_ = infos[chosen];
+    physical_ = pds[chosen];
+    if (opt.require_gpu && info_.type == VK_PHYSICAL_DEVICE_TYPE_CPU) {
+      throw GpuError("--require-gpu: the only usable device is a CPU implementation (" +
+                     info_.name + ")");
+    }
+    bool ts = false;
+    int fam = compute_family(physical_, &ts);
+    if (fam < 0) throw GpuError("device " + info_.name + " has no compute queue");
+    queue_family_ = static_cast<uint32_t>(fam);
+
+    float prio = 1.0f;
+    VkDeviceQueueCreateInfo qi{VK_STRUCTURE_TYPE_DEVICE_QUEUE_CREATE_INFO};
+    qi.queueFamilyIndex = queue_family_;
+    qi.queueCount = 1;
+    qi.pQueuePriorities = &prio;
+    VkDeviceCreateInfo di{VK_STRUCTURE_TYPE_DEVICE_CREATE_INFO};
+    di.queueCreateInfoCount = 1;
+    di.pQueueCreateInfos = &qi;
+    check(vkCreateDevice(physical_, &di, nullptr, &device_), "vkCreateDevice");
+    vkGetDeviceQueue(device_, queue_family_, 0, &queue_);
+
+    VkCommandPoolCreateInfo pi{VK_STRUCTURE_TYPE_COMMAND_POOL_CREATE_INFO};
+    pi.flags = VK_COMMAND_POOL_CREATE_RESET_COMMAND_BUFFER_BIT;
+    pi.queueFamilyIndex = queue_family_;
+    check(vkCreateCommandPool(device_, &pi, nullptr, &cmd_pool_), "vkCreateCommandPool");
+
+    VkPhysicalDeviceProperties p{};
+    vkGetPhysicalDeviceProperties(physical_, &p);
+    timestamp_period_ns_ = p.limits.timestampPeriod;
+    if (debug_utils_) {
+      set_name_ = reinterpret_cast<PFN_vkSetDebugUtilsObjectNameEXT>(
+          vkGetInstanceProcAddr(instance_, "vkSetDebugUtilsObjectNameEXT"));
+    }
+  } catch (...) {
+    release();
+    throw;
+  }
+}
+
+Context::~Context() { release(); }
+
+void Context::release() {
+  if (device_) {
+    vkDeviceWaitIdle(device_);
+    if (cmd_pool_) vkDestroyCommandPool(device_, cmd_pool_, nullptr);
+    vkDestroyDevice(device_, nullptr);
+  }
+  if (messenger_) {
+    auto destroy = reinterpret_cast<PFN_vkDestroyDebugUtilsMessengerEXT>(
+        vkGetInstanceProcAddr(instance_, "vkDestroyDebugUtilsMessengerEXT"));
+    if (destroy) destroy(instance_, messenger_, nullptr);
+  }
+  if (instance_) vkDestroyInstance(instance_, nullptr);
+  device_ = VK_NULL_HANDLE;
+  cmd_pool_ = VK_NULL_HANDLE;
+  messenger_ = VK_NULL_HANDLE;
+  instance_ = VK_NULL_HANDLE;
+}
+
+void Context::on_message(const char* text) {
+  messages_.emplace_back(text);
+  if (user_callback_) user_callback_(text);
+}
+
+uint32_t Context::memory_type(uint32_t type_bits, VkMemoryPropertyFlags props) const {
+  VkPhysicalDeviceMemoryProperties mp{};
+  vkGetPhysicalDeviceMemoryProperties(physical_, &mp);
+  for (uint32_t i = 0; i < mp.memoryTypeCount; ++i) {
+    if ((type_bits & (1u << i)) && (mp.memoryTypes[i].propertyFlags & props) == props) return i;
+  }
+  throw GpuError("no Vulkan memory type with the required properties");
+}
+
+void Context::set_debug_name(VkObjectType type, uint64_t handle, const std::string& name) const {
+  if (!set_name_ || name.empty()) return;
+  VkDebugUtilsObjectNameInfoEXT ni{VK_STRUCTURE_TYPE_DEBUG_UTILS_OBJECT_NAME_INFO_EXT};
+  ni.objectType = type;
+  ni.objectHandle = handle;
+  ni.pObjectName = name.c_str();
+  set_name_(device_, &ni);
+}
+
+void Context::run_once(const std::function<void(VkCommandBuffer)>& record) {
+  VkCommandBufferAllocateInfo ai{VK_STRUCTURE_TYPE_COMMAND_BUFFER_ALLOCATE_INFO};
+  ai.commandPool = cmd_pool_;
+  ai.level = VK_COMMAND_BUFFER_LEVEL_PRIMARY;
+  ai.commandBufferCount = 1;
+  VkCommandBuffer cmd = VK_NULL_HANDLE;
+  check(vkAllocateCommandBuffers(device_, &ai, &cmd), "vkAllocateCommandBuffers");
+  VkCommandBufferBeginInfo bi{VK_STRUCTURE_TYPE_COMMAND_BUFFER_BEGIN_INFO};
+  bi.flags = VK_COMMAND_BUFFER_USAGE_ONE_TIME_SUBMIT_BIT;
+  VkResult r = vkBeginCommandBuffer(cmd, &bi);
+  if (r == VK_SUCCESS) {
+    record(cmd);
+    r = vkEndCommandBuffer(cmd);
+  }
+  if (r == VK_SUCCESS) {
+    VkSubmitInfo si{VK_STRUCTURE_TYPE_SUBMIT_INFO};
+    si.commandBufferCount = 1;
+    si.pCommandBuffers = &cmd;
+    r = vkQueueSubmit(queue_, 1, &si, VK_NULL_HANDLE);
+    if (r == VK_SUCCESS) r = vkQueueWaitIdle(queue_);
+  }
+  vkFreeCommandBuffers(device_, cmd_pool_, 1, &cmd);
+  check(r, "one-shot submit");
+}
+
+}  // namespace isg::gpu

@@ -1,0 +1,244 @@
+// Vulkan compute runtime: device, buffers, images, kernels, command sequences with timing.
+// A handful of RAII owners (after Kompute's manager/tensor/algorithm/sequence); nothing here
+// knows about effects. No vkDestroy* outside this folder.
+#pragma once
+
+#include <vulkan/vulkan.h>
+
+#include <cstddef>
+#include <cstdint>
+#include <functional>
+#include <memory>
+#include <span>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+namespace isg::gpu {
+
+struct GpuError : std::runtime_error {
+  using std::runtime_error::runtime_error;
+};
+
+struct DeviceInfo {
+  uint32_t index = 0;
+  std::string name;
+  VkPhysicalDeviceType type = VK_PHYSICAL_DEVICE_TYPE_OTHER;
+  std::string type_name;  // "discrete", "integrated", "virtual", "cpu", "other"
+  uint32_t api_version = 0;
+  uint64_t max_storage_buffer_range = 0;
+  uint32_t max_workgroup_count[3] = {0, 0, 0};
+  uint32_t max_image_dimension_2d = 0;
+  uint64_t device_local_bytes = 0;
+  bool timestamps = false;
+};
+
+struct ContextOptions {
+  // Empty: best device by type (discrete > integrated > virtual > cpu). A number picks that
+  // index of `isg devices`; anything else matches a substring of the device name.
+  std::string device;
+  bool require_gpu = false;  // fail when the chosen device is a CPU implementation
+  bool validation = false;   // Khronos validation layer + debug messenger
+  // Called for every validation/debug message (severity >= warning). The context counts
+  // them too: tests fail on any.
+  std::function<void(const std::string&)> on_message;
+};
+
+// Lists physical devices without creating a logical device.
+std::vector<DeviceInfo> list_devices();
+
+class Context;
+
+// A device-local storage buffer. Host transfers go through a staging copy so the same code is
+// right on discrete GPUs and on lavapipe.
+class Buffer {
+ public:
+  Buffer() = default;
+  Buffer(Context& ctx, VkDeviceSize bytes, const std::string& debug_name);
+  ~Buffer();
+  Buffer(Buffer&& o) noexcept;
+  Buffer& operator=(Buffer&& o) noexcept;
+  Buffer(const Buffer&) = delete;
+  Buffer& operator=(const Buffer&) = delete;
+
+  void upload(const void* data, VkDeviceSize bytes, VkDeviceSize offset = 0);
+  void download(void* data, VkDeviceSize bytes, VkDeviceSize offset = 0) const;
+  template <class T>
+  void upload(std::span<const T> v, VkDeviceSize offset = 0) {
+    upload(v.data(), v.size_bytes(), offset);
+  }
+  template <class T>
+  std::vector<T> download_as(size_t count) const {
+    std::vector<T> v(count);
+    download(v.data(), count * sizeof(T));
+    return v;
+  }
+
+  VkBuffer handle() const { return buffer_; }
+  VkDeviceSize size() const { return size_; }
+
+ private:
+  void release();
+  Context* ctx_ = nullptr;
+  VkBuffer buffer_ = VK_NULL_HANDLE;
+  VkDeviceMemory memory_ = VK_NULL_HANDLE;
+  VkDeviceSize size_ = 0;
+};
+
+// A 2D storage image (r32f or rgba32f) in GENERAL layout, for passes that want texture-style
+// addressing.
+class Image {
+ public:
+  Image() = default;
+  Image(Context& ctx, uint32_t width, uint32_t height, VkFormat format,
+        const std::string& debug_name);
+  ~Image();
+  Image(Image&& o) noexcept;
+  Image& operator=(Image&& o) noexcept;
+  Image(const Image&) = delete;
+  Image& operator=(const Image&) = delete;
+
+  void upload(const void* data, VkDeviceSize bytes);
+  void download(void* data, VkDeviceSize bytes) const;
+  VkImage handle() const { return image_; }
+  VkImageView view() const { return view_; }
+  uint32_t width() const { return width_; }
+  uint32_t height() const { return height_; }
+  VkDeviceSize bytes() const;
+
+ private:
+  void release();
+  Context* ctx_ = nullptr;
+  VkImage image_ = VK_NULL_HANDLE;
+  VkImageView view_ = VK_NULL_HANDLE;
+  VkDeviceMemory memory_ = VK_NULL_HANDLE;
+  uint32_t width_ = 0, height_ = 0;
+  VkFormat format_ = VK_FORMAT_UNDEFINED;
+};
+
+// What a kernel binds, in binding order: storage buffers and storage images.
+enum class Slot { buffer, image };
+
+struct Binding {
+  const Buffer* buffer = nullptr;
+  const Image* image = nullptr;
+  static Binding of(const Buffer& b) { return Binding{&b, nullptr}; }
+  static Binding of(const Image& i) { return Binding{nullptr, &i}; }
+};
+
+// A compute pipeline from embedded SPIR-V, its layout (one descriptor set, `slots` in binding
+// order) and push-constant block.
+class Kernel {
+ public:
+  Kernel(Context& ctx, std::string name, std::span<const uint32_t> spirv,
+         std::vector<Slot> slots, uint32_t push_bytes, uint32_t local_x, uint32_t local_y);
+  ~Kernel();
+  Kernel(const Kernel&) = delete;
+  Kernel& operator=(const Kernel&) = delete;
+
+  const std::string& name() const { return name_; }
+  uint32_t local_x() const { return local_x_; }
+  uint32_t local_y() const { return local_y_; }
+  uint32_t push_bytes() const { return push_bytes_; }
+  const std::vector<Slot>& slots() const { return slots_; }
+  VkPipeline pipeline() const { return pipeline_; }
+  VkPipelineLayout layout() const { return layout_; }
+  VkDescriptorSetLayout set_layout() const { return set_layout_; }
+
+ private:
+  Context& ctx_;
+  std::string name_;
+  std::vector<Slot> slots_;
+  uint32_t push_bytes_, local_x_, local_y_;
+  VkShaderModule module_ = VK_NULL_HANDLE;
+  VkDescriptorSetLayout set_layout_ = VK_NULL_HANDLE;
+  VkPipelineLayout layout_ = VK_NULL_HANDLE;
+  VkPipeline pipeline_ = VK_NULL_HANDLE;
+};
+
+struct PassTime {
+  std::string name;
+  double ms = 0.0;
+};
+
+// Records dispatches into one command buffer, each bracketed by timestamps and followed by a
+// compute->compute barrier; submit() runs them and reads back per-pass GPU time.
+class Sequence {
+ public:
+  explicit Sequence(Context& ctx);
+  ~Sequence();
+  Sequence(const Sequence&) = delete;
+  Sequence& operator=(const Sequence&) = delete;
+
+  // `label` names the pass in timings; groups cover width x height with the kernel's local size.
+  void dispatch(const Kernel& k, const std::vector<Binding>& bindings, const void* push,
+                uint32_t width, uint32_t height, const std::string& label = {});
+  template <class P>
+  void dispatch(const Kernel& k, const std::vector<Binding>& bindings, const P& push,
+                uint32_t width, uint32_t height, const std::string& label = {}) {
+    static_assert(std::is_trivially_copyable_v<P>);
+    if (sizeof(P) != k.push_bytes()) throw GpuError("push constant size mismatch for " + k.name());
+    dispatch(k, bindings, static_cast<const void*>(&push), width, height, label);
+  }
+  // Submits, waits, and returns the GPU time of each dispatch (empty names merged by kernel).
+  std::vector<PassTime> submit();
+
+ private:
+  Context& ctx_;
+  VkCommandBuffer cmd_ = VK_NULL_HANDLE;
+  VkDescriptorPool pool_ = VK_NULL_HANDLE;
+  VkQueryPool queries_ = VK_NULL_HANDLE;
+  std::vector<std::string> labels_;
+  uint32_t max_passes_ = 256;
+  bool recording_ = false;
+  void begin();
+  void release();
+};
+
+class Context {
+ public:
+  explicit Context(const ContextOptions& opt = {});
+  ~Context();
+  Context(const Context&) = delete;
+  Context& operator=(const Context&) = delete;
+
+  const DeviceInfo& info() const { return info_; }
+  VkDevice device() const { return device_; }
+  VkPhysicalDevice physical() const { return physical_; }
+  VkQueue queue() const { return queue_; }
+  VkCommandPool command_pool() const { return cmd_pool_; }
+  uint32_t memory_type(uint32_t type_bits, VkMemoryPropertyFlags props) const;
+  double timestamp_period_ns() const { return timestamp_period_ns_; }
+  bool timestamps() const { return info_.timestamps; }
+
+  // Number of validation/debug messages seen so far (warnings and errors).
+  size_t message_count() const { return messages_.size(); }
+  const std::vector<std::string>& messages() const { return messages_; }
+
+  void set_debug_name(VkObjectType type, uint64_t handle, const std::string& name) const;
+  // Runs `record` in a one-shot command buffer and waits for it.
+  void run_once(const std::function<void(VkCommandBuffer)>& record);
+
+  // Called from the debug messenger (public for the C callback).
+  void on_message(const char* text);
+
+ private:
+  void release();
+  VkInstance instance_ = VK_NULL_HANDLE;
+  VkDebugUtilsMessengerEXT messenger_ = VK_NULL_HANDLE;
+  VkPhysicalDevice physical_ = VK_NULL_HANDLE;
+  VkDevice device_ = VK_NULL_HANDLE;
+  VkQueue queue_ = VK_NULL_HANDLE;
+  uint32_t queue_family_ = 0;
+  VkCommandPool cmd_pool_ = VK_NULL_HANDLE;
+  DeviceInfo info_;
+  double timestamp_period_ns_ = 1.0;
+  bool debug_utils_ = false;
+  PFN_vkSetDebugUtilsObjectNameEXT set_name_ = nullptr;
+  std::vector<std::string> messages_;
+  std::function<void(const std::string&)> user_callback_;
+};
+
+void check(VkResult r, const char* what);
+
+}  // namespace isg::gpu

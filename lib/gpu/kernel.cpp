@@ -1,0 +1,225 @@
+#include <map>
+
+#include "gpu/gpu.h"
+
+namespace isg::gpu {
+
+Kernel::Kernel(Context& ctx, std::string name, std::span<const uint32_t> spirv,
+               std::vector<Slot> slots, uint32_t push_bytes, uint32_t local_x, uint32_t local_y)
+    : ctx_(ctx), name_(std::move(name)), slots_(std::move(slots)), push_bytes_(push_bytes),
+      local_x_(local_x), local_y_(local_y) {
+  VkDevice dev = ctx.device();
+  auto cleanup = [&] {
+    if (pipeline_) vkDestroyPipeline(dev, pipeline_, nullptr);
+    if (layout_) vkDestroyPipelineLayout(dev, layout_, nullptr);
+    if (set_layout_) vkDestroyDescriptorSetLayout(dev, set_layout_, nullptr);
+    if (module_) vkDestroyShaderModule(dev, module_, nullptr);
+  };
+  try {
+    VkShaderModuleCreateInfo mi{VK_STRUCTURE_TYPE_SHADER_MODULE_CREATE_INFO};
+    mi.codeSize = spirv.size_bytes();
+    mi.pCode = spirv.data();
+    check(vkCreateShaderModule(dev, &mi, nullptr, &module_), "vkCreateShaderModule");
+
+    std::vector<VkDescriptorSetLayoutBinding> b(slots_.size());
+    for (uint32_t i = 0; i < slots_.size(); ++i) {
+      b[i].binding = i;
+      b[i].descriptorType = slots_[i] == Slot::buffer ? VK_DESCRIPTOR_TYPE_STORAGE_BUFFER
+                                                      : VK_DESCRIPTOR_TYPE_STORAGE_IMAGE;
+      b[i].descriptorCount = 1;
+      b[i].stageFlags = VK_SHADER_STAGE_COMPUTE_BIT;
+    }
+    VkDescriptorSetLayoutCreateInfo li{VK_STRUCTURE_TYPE_DESCRIPTOR_SET_LAYOUT_CREATE_INFO};
+    li.bindingCount = static_cast<uint32_t>(b.size());
+    li.pBindings = b.data();
+    check(vkCreateDescriptorSetLayout(dev, &li, nullptr, &set_layout_), "descriptor set layout");
+
+    VkPushConstantRange pr{VK_SHADER_STAGE_COMPUTE_BIT, 0, push_bytes_};
+    VkPipelineLayoutCreateInfo pli{VK_STRUCTURE_TYPE_PIPELINE_LAYOUT_CREATE_INFO};
+    pli.setLayoutCount = 1;
+    pli.pSetLayouts = &set_layout_;
+    pli.pushConstantRangeCount = push_bytes_ ? 1 : 0;
+    pli.pPushConstantRanges = &pr;
+    check(vkCreatePipelineLayout(dev, &pli, nullptr, &layout_), "pipeline layout");
+
+    VkComputePipelineCreateInfo ci{VK_STRUCTURE_TYPE_COMPUTE_PIPELINE_CREATE_INFO};
+    ci.stage.sType = VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO;
+    ci.stage.stage = VK_SHADER_STAGE_COMPUTE_BIT;
+    ci.stage.module = module_;
+    ci.stage.pName = "main";
+    ci.layout = layout_;
+    check(vkCreateComputePipelines(dev, VK_NULL_HANDLE, 1, &ci, nullptr, &pipeline_),
+          "vkCreateComputePipelines");
+  } catch (...) {
+    cleanup();
+    throw;
+  }
+  ctx.set_debug_name(VK_OBJECT_TYPE_PIPELINE, reinterpret_cast<uint64_t>(pipeline_), name_);
+  ctx.set_debug_name(VK_OBJECT_TYPE_SHADER_MODULE, reinterpret_cast<uint64_t>(module_), name_);
+}
+
+Kernel::~Kernel() {
+  VkDevice dev = ctx_.device();
+  vkDestroyPipeline(dev, pipeline_, nullptr);
+  vkDestroyPipelineLayout(dev, layout_, nullptr);
+  vkDestroyDescriptorSetLayout(dev, set_layout_, nullptr);
+  vkDestroyShaderModule(dev, module_, nullptr);
+}
+
+// ---- Sequence ----
+
+Sequence::Sequence(Context& ctx) : ctx_(ctx) {
+  VkDevice dev = ctx.device();
+  VkDescriptorPoolSize sizes[2] = {{VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, max_passes_ * 16},
+                                   {VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, max_passes_ * 8}};
+  VkDescriptorPoolCreateInfo pi{VK_STRUCTURE_TYPE_DESCRIPTOR_POOL_CREATE_INFO};
+  pi.maxSets = max_passes_;
+  pi.poolSizeCount = 2;
+  pi.pPoolSizes = sizes;
+  check(vkCreateDescriptorPool(dev, &pi, nullptr, &pool_), "vkCreateDescriptorPool");
+
+  VkCommandBufferAllocateInfo ai{VK_STRUCTURE_TYPE_COMMAND_BUFFER_ALLOCATE_INFO};
+  ai.commandPool = ctx.command_pool();
+  ai.level = VK_COMMAND_BUFFER_LEVEL_PRIMARY;
+  ai.commandBufferCount = 1;
+  VkResult r = vkAllocateCommandBuffers(dev, &ai, &cmd_);
+  if (r == VK_SUCCESS && ctx.timestamps()) {
+    VkQueryPoolCreateInfo qi{VK_STRUCTURE_TYPE_QUERY_POOL_CREATE_INFO};
+    qi.queryType = VK_QUERY_TYPE_TIMESTAMP;
+    qi.queryCount = 2 * max_passes_;
+    r = vkCreateQueryPool(dev, &qi, nullptr, &queries_);
+  }
+  if (r != VK_SUCCESS) {
+    release();
+    check(r, "Sequence set-up");
+  }
+}
+
+Sequence::~Sequence() { release(); }
+
+void Sequence::release() {
+  VkDevice dev = ctx_.device();
+  if (queries_) vkDestroyQueryPool(dev, queries_, nullptr);
+  if (cmd_) vkFreeCommandBuffers(dev, ctx_.command_pool(), 1, &cmd_);
+  if (pool_) vkDestroyDescriptorPool(dev, pool_, nullptr);
+  queries_ = VK_NULL_HANDLE;
+  cmd_ = VK_NULL_HANDLE;
+  pool_ = VK_NULL_HANDLE;
+}
+
+void Sequence::begin() {
+  VkCommandBufferBeginInfo bi{VK_STRUCTURE_TYPE_COMMAND_BUFFER_BEGIN_INFO};
+  bi.flags = VK_COMMAND_BUFFER_USAGE_ONE_TIME_SUBMIT_BIT;
+  check(vkBeginCommandBuffer(cmd_, &bi), "vkBeginCommandBuffer");
+  if (queries_) vkCmdResetQueryPool(cmd_, queries_, 0, 2 * max_passes_);
+  recording_ = true;
+}
+
+void Sequence::dispatch(const Kernel& k, const std::vector<Binding>& bindings, const void* push,
+                        uint32_t width, uint32_t height, const std::string& label) {
+  if (bindings.size() != k.slots().size()) {
+    throw GpuError(k.name() + ": expects " + std::to_string(k.slots().size()) + " bindings, got " +
+                   std::to_string(bindings.size()));
+  }
+  if (labels_.size() >= max_passes_) throw GpuError("Sequence: too many dispatches");
+  uint32_t gx = (width + k.local_x() - 1) / k.local_x();
+  uint32_t gy = (height + k.local_y() - 1) / k.local_y();
+  const auto& lim = ctx_.info().max_workgroup_count;
+  if (gx > lim[0] || gy > lim[1]) {
+    throw GpuError(k.name() + ": " + std::to_string(width) + "x" + std::to_string(height) +
+                   " needs more workgroups than the device allows");
+  }
+  if (!recording_) begin();
+
+  VkDescriptorSetAllocateInfo ai{VK_STRUCTURE_TYPE_DESCRIPTOR_SET_ALLOCATE_INFO};
+  ai.descriptorPool = pool_;
+  ai.descriptorSetCount = 1;
+  VkDescriptorSetLayout sl = k.set_layout();
+  ai.pSetLayouts = &sl;
+  VkDescriptorSet set = VK_NULL_HANDLE;
+  check(vkAllocateDescriptorSets(ctx_.device(), &ai, &set), "vkAllocateDescriptorSets");
+
+  std::vector<VkDescriptorBufferInfo> bufs(bindings.size());
+  std::vector<VkDescriptorImageInfo> imgs(bindings.size());
+  std::vector<VkWriteDescriptorSet> writes(bindings.size());
+  for (uint32_t i = 0; i < bindings.size(); ++i) {
+    VkWriteDescriptorSet& w = writes[i];
+    w = {VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET};
+    w.dstSet = set;
+    w.dstBinding = i;
+    w.descriptorCount = 1;
+    if (k.slots()[i] == Slot::buffer) {
+      if (!bindings[i].buffer) throw GpuError(k.name() + ": binding " + std::to_string(i) + " needs a buffer");
+      bufs[i] = {bindings[i].buffer->handle(), 0, VK_WHOLE_SIZE};
+      w.descriptorType = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
+      w.pBufferInfo = &bufs[i];
+    } else {
+      if (!bindings[i].image) throw GpuError(k.name() + ": binding " + std::to_string(i) + " needs an image");
+      imgs[i] = {VK_NULL_HANDLE, bindings[i].image->view(), VK_IMAGE_LAYOUT_GENERAL};
+      w.descriptorType = VK_DESCRIPTOR_TYPE_STORAGE_IMAGE;
+      w.pImageInfo = &imgs[i];
+    }
+  }
+  vkUpdateDescriptorSets(ctx_.device(), static_cast<uint32_t>(writes.size()), writes.data(), 0,
+                         nullptr);
+
+  uint32_t q = static_cast<uint32_t>(labels_.size());
+  labels_.push_back(label.empty() ? k.name() : label);
+  if (queries_) {
+    vkCmdWriteTimestamp(cmd_, VK_PIPELINE_STAGE_TOP_OF_PIPE_BIT, queries_, 2 * q);
+  }
+  vkCmdBindPipeline(cmd_, VK_PIPELINE_BIND_POINT_COMPUTE, k.pipeline());
+  vkCmdBindDescriptorSets(cmd_, VK_PIPELINE_BIND_POINT_COMPUTE, k.layout(), 0, 1, &set, 0, nullptr);
+  if (k.push_bytes()) {
+    vkCmdPushConstants(cmd_, k.layout(), VK_SHADER_STAGE_COMPUTE_BIT, 0, k.push_bytes(), push);
+  }
+  vkCmdDispatch(cmd_, gx, gy, 1);
+  VkMemoryBarrier mb{VK_STRUCTURE_TYPE_MEMORY_BARRIER};
+  mb.srcAccessMask = VK_ACCESS_SHADER_WRITE_BIT;
+  mb.dstAccessMask = VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_SHADER_WRITE_BIT;
+  vkCmdPipelineBarrier(cmd_, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT,
+                       VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, 0, 1, &mb, 0, nullptr, 0, nullptr);
+  if (queries_) {
+    vkCmdWriteTimestamp(cmd_, VK_PIPELINE_STAGE_BOTTOM_OF_PIPE_BIT, queries_, 2 * q + 1);
+  }
+}
+
+std::vector<PassTime> Sequence::submit() {
+  std::vector<PassTime> out;
+  if (!recording_) return out;
+  check(vkEndCommandBuffer(cmd_), "vkEndCommandBuffer");
+  recording_ = false;
+  VkSubmitInfo si{VK_STRUCTURE_TYPE_SUBMIT_INFO};
+  si.commandBufferCount = 1;
+  si.pCommandBuffers = &cmd_;
+  check(vkQueueSubmit(ctx_.queue(), 1, &si, VK_NULL_HANDLE), "vkQueueSubmit");
+  check(vkQueueWaitIdle(ctx_.queue()), "vkQueueWaitIdle");
+
+  uint32_t n = static_cast<uint32_t>(labels_.size());
+  std::vector<uint64_t> ts(2 * n, 0);
+  if (queries_ && n) {
+    check(vkGetQueryPoolResults(ctx_.device(), queries_, 0, 2 * n, ts.size() * sizeof(uint64_t),
+                                ts.data(), sizeof(uint64_t),
+                                VK_QUERY_RESULT_64_BIT | VK_QUERY_RESULT_WAIT_BIT),
+          "vkGetQueryPoolResults");
+  }
+  // Passes with the same label (e.g. one per light) add up.
+  std::map<std::string, size_t> where;
+  for (uint32_t i = 0; i < n; ++i) {
+    double ms = queries_ ? double(ts[2 * i + 1] - ts[2 * i]) * ctx_.timestamp_period_ns() * 1e-6
+                         : 0.0;
+    auto it = where.find(labels_[i]);
+    if (it == where.end()) {
+      where[labels_[i]] = out.size();
+      out.push_back({labels_[i], ms});
+    } else {
+      out[it->second].ms += ms;
+    }
+  }
+  labels_.clear();
+  vkResetDescriptorPool(ctx_.device(), pool_, 0);
+  vkResetCommandBuffer(cmd_, 0);
+  return out;
+}
+
+}  // namespace isg::gpu

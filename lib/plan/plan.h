@@ -1,0 +1,57 @@
+// The planner: from the roles present, the scene and the preset, the passes to run and the GPU
+// resources they need, nothing more (Filament's frame graph plays this role there).
+#pragma once
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "io/roles.h"
+#include "io/scene.h"
+#include "params/params.h"
+
+namespace isg::plan {
+
+struct Resource {
+  std::string name;  // a role ("beauty", "key.shadow") or a product ("fg", "key.softshadow")
+  int planes = 1;
+  bool upload = false;  // filled from the input image
+  uint64_t bytes = 0;
+};
+
+struct Pass {
+  std::string name;    // kernel stage, e.g. "shadows.hard"
+  std::string label;   // name in timings, e.g. "shadows.hard[key]"
+  std::vector<std::string> reads, writes;
+  std::string light;   // for per-light passes
+};
+
+struct EffectStatus {
+  std::string effect;  // "shadows[key]", "reflections", "dof"
+  bool runs = false;
+  std::string method;
+  std::string why;     // why it cannot or does not run
+};
+
+struct Plan {
+  int width = 0, height = 0;
+  std::vector<Resource> resources;
+  std::vector<Pass> passes;
+  std::vector<EffectStatus> effects;
+  std::vector<std::string> soft_lights;  // lights whose soft shadows are computed
+  std::vector<std::string> missing;      // required roles absent: the run cannot go on
+
+  const Resource* resource(const std::string& name) const;
+  uint64_t gpu_bytes() const;
+  std::string describe() const;  // what `isg run --dry-run` prints
+};
+
+// Which effects the inputs allow at all, whatever the preset, and why not where they don't
+// (what `isg info` reports).
+std::vector<EffectStatus> capabilities(const io::Roles& roles, const io::Scene& scene,
+                                       bool has_camera);
+
+Plan make_plan(const io::Roles& roles, const io::Scene& scene, const params::Params& p,
+               int width, int height);
+
+}  // namespace isg::plan
