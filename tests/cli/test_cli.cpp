@@ -1,0 +1,227 @@
+// End to end: the `isg` binary on files the tests write, and on the shared Blender case.
+#include <gtest/gtest.h>
+#include <sys/stat.h>
+
+#include <cmath>
+#include <fstream>
+#include <nlohmann/json.hpp>
+#include <sstream>
+
+#include "io/image.h"
+#include "support/images.h"
+
+namespace fs = std::filesystem;
+
+namespace {
+
+struct Result {
+  int code = -1;
+  std::string out, err;
+};
+
+Result run_isg(const std::string& args) {
+  static int k = 0;
+  auto dir = fs::temp_directory_path();
+  auto o = dir / ("isg-cli-out-" + std::to_string(::getpid()) + "-" + std::to_string(k));
+  auto e = dir / ("isg-cli-err-" + std::to_string(::getpid()) + "-" + std::to_string(k++));
+  std::string cmd = std::string(ISG_BINARY) + " " + args + " >" + o.string() + " 2>" + e.string() + " </dev/null";
+  int rc = std::system(cmd.c_str());
+  Result r;
+  r.code = WIFEXITED(rc) ? WEXITSTATUS(rc) : -1;
+  std::stringstream so, se;
+  so << std::ifstream(o).rdbuf();
+  se << std::ifstream(e).rdbuf();
+  r.out = so.str();
+  r.err = se.str();
+  fs::remove(o);
+  fs::remove(e);
+  return r;
+}
+
+std::string q(const fs::path& p) { return "'" + p.string() + "'"; }
+
+const char* kScene = R"({"scene_radius": 3.0, "lights": [{"name": "key", "type": "sphere",
+  "position": [0, 0, 5], "radius": 0.2}]})";
+
+// The one-line error contract: non-zero exit, one line on stderr naming `needle`, no output.
+void expect_clean_failure(const Result& r, const std::string& needle, const fs::path& out) {
+  EXPECT_NE(r.code, 0) << r.out;
+  EXPECT_NE(r.err.find("isg: error: "), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find(needle), std::string::npos) << "stderr: " << r.err;
+  size_t lines = std::count(r.err.begin(), r.err.end(), '\n');
+  EXPECT_EQ(lines, 1u) << r.err;
+  EXPECT_FALSE(fs::exists(out)) << out;
+  std::error_code ec;
+  if (!fs::is_directory(out.parent_path(), ec)) return;
+  for (const auto& e : fs::directory_iterator(out.parent_path()))
+    EXPECT_EQ(e.path().filename().string().find(".tmp"), std::string::npos) << "left " << e.path();
+}
+
+class Cli : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    dir = isg::test::temp_dir(::testing::UnitTest::GetInstance()->current_test_info()->name());
+    in = dir / "aovs.exr";
+    isg::io::write_exr(in, isg::test::contract_aovs(24, 16), {});
+    scene = dir / "scene.json";
+    std::ofstream(scene) << kScene;
+    out = dir / "out.exr";
+  }
+  fs::path dir, in, scene, out;
+};
+
+}  // namespace
+
+TEST_F(Cli, RunWritesEveryChannelPlusProvenance) {
+  auto r = run_isg(std::string("run ") + q(in) + " --scene " + q(scene) + " -o " + q(out) + " --timings");
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_NE(r.out.find("wrote " + out.string()), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("composite[key]"), std::string::npos) << r.out;  // per-pass GPU time
+  auto a = isg::io::read_exr(in), b = isg::io::read_exr(out);
+  for (const auto& c : a.channels) {
+    std::string name = (c.name.size() == 1 && std::string("RGBA").find(c.name) != std::string::npos)
+                           ? "input." + c.name : c.name;
+    const auto* o = b.find(name);
+    ASSERT_TRUE(o) << name;
+    EXPECT_EQ(o->data, c.data) << name;
+  }
+  ASSERT_TRUE(b.find("key.softshadow"));
+  // Method `hard`: soft == hard, so the composite is the beauty itself.
+  EXPECT_EQ(b.find("key.softshadow")->data, a.find("key.shadow")->data);
+  for (const char* c : {"R", "G", "B", "A"}) EXPECT_EQ(b.find(c)->data, a.find(c)->data) << c;
+  EXPECT_EQ(b.attributes.get_string("isg:param:shadows.method"), "hard");
+  EXPECT_FALSE(b.attributes.get_string("isg:device").empty());
+  EXPECT_FALSE(b.attributes.get_string("isg:version").empty());
+}
+
+TEST_F(Cli, InfoFindsRolesAndSaysWhatCanRun) {
+  auto r = run_isg(std::string("info ") + q(in) + " --json");
+  ASSERT_EQ(r.code, 0) << r.err;
+  auto j = nlohmann::json::parse(r.out);
+  EXPECT_EQ(j["roles"]["beauty"]["how"], "contract name");
+  EXPECT_TRUE(j["roles"]["key.shadow"].is_object());
+  EXPECT_TRUE(j["roles"]["refl"].is_null());
+  EXPECT_TRUE(j["effects"]["shadows[key]"]["can_run"].get<bool>());
+  EXPECT_FALSE(j["effects"]["reflections"]["can_run"].get<bool>());
+  EXPECT_NE(j["effects"]["reflections"]["why"].get<std::string>().find("refl"), std::string::npos);
+}
+
+TEST_F(Cli, CompareReportsClosedFormMetrics) {
+  auto a = isg::test::make_image(8, 8, {"R", "mask"}, [](const std::string& n, int x, int) {
+    return n == "mask" ? float(x < 4) : 0.25f;
+  });
+  auto b = isg::test::make_image(8, 8, {"R", "mask"}, [](const std::string& n, int x, int) {
+    return n == "mask" ? float(x < 4) : (x < 4 ? 0.5f : 1.0f);
+  });
+  isg::io::write_exr(dir / "a.exr", a, {});
+  isg::io::write_exr(dir / "b.exr", b, {});
+  auto r = run_isg("compare " + q(dir / "a.exr") + " " + q(dir / "b.exr") + " --mask mask --json");
+  ASSERT_EQ(r.code, 0) << r.err;
+  auto j = nlohmann::json::parse(r.out);
+  EXPECT_EQ(j["all"]["pixels"], 32);
+  EXPECT_NEAR(j["all"]["rmse"].get<double>(), 0.25, 1e-9);
+  EXPECT_NEAR(j["all"]["max_abs"].get<double>(), 0.25, 1e-9);
+}
+
+TEST_F(Cli, DryRunPrintsThePlanAndWritesNothing) {
+  auto r = run_isg(std::string("run ") + q(in) + " -o " + q(out) + " --dry-run --set shadows.method=none");
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_NE(r.out.find("shadows[key]: skipped: shadows.method = none"), std::string::npos) << r.out;
+  EXPECT_EQ(r.out.find("key.shadow:"), std::string::npos) << r.out;  // nothing allocated for it
+  EXPECT_FALSE(fs::exists(out));
+}
+
+TEST_F(Cli, PrintPresetShowsEveryParameter) {
+  auto r = run_isg("run --print-preset --preset preview --set limits.max_channels=77");
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_NE(r.out.find("compression = \"zips\""), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("max_channels = 77"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("[shadows]"), std::string::npos);
+}
+
+TEST_F(Cli, NanAndInfAreSanitisedAndCounted) {
+  auto img = isg::test::contract_aovs(24, 16);
+  img.find("key.direct.G")->data[5] = NAN;
+  img.find("key.direct.G")->data[6] = INFINITY;
+  isg::io::write_exr(in, img, {});
+  auto r = run_isg(std::string("run ") + q(in) + " -o " + q(out));
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_NE(r.err.find("key.direct.G had 2 NaN/Inf values"), std::string::npos) << r.err;
+  auto b = isg::io::read_exr(out);
+  for (const auto& c : b.channels)
+    for (float v : c.data) ASSERT_TRUE(std::isfinite(v)) << c.name;
+}
+
+TEST_F(Cli, BadInputsFailCleanly) {
+  std::string o = " -o " + q(out);
+  expect_clean_failure(run_isg("run " + q(dir / "nope.exr") + o), "nope.exr: no such file", out);
+  std::ofstream(dir / "text.exr") << "not an exr";
+  expect_clean_failure(run_isg("run " + q(dir / "text.exr") + o), "text.exr: not an OpenEXR file", out);
+  // Truncated inside the pixel data.
+  isg::io::write_exr(dir / "full.exr", isg::test::contract_aovs(64, 64), {"none", false});
+  fs::copy_file(dir / "full.exr", dir / "cut.exr");
+  fs::resize_file(dir / "cut.exr", fs::file_size(dir / "full.exr") * 3 / 4);
+  expect_clean_failure(run_isg("run " + q(dir / "cut.exr") + o), "cut.exr", out);
+  // Missing required channels.
+  auto nob = isg::test::make_image(8, 8, {"Z"}, [](auto&, int, int) { return 1.f; });
+  isg::io::write_exr(dir / "nobeauty.exr", nob, {});
+  expect_clean_failure(run_isg("run " + q(dir / "nobeauty.exr") + o), "beauty", out);
+  // Unwritable output.
+  fs::create_directories(dir / "ro");
+  ::chmod((dir / "ro").c_str(), 0555);
+  if (::access((dir / "ro").c_str(), W_OK) != 0) {  // root can write anywhere
+    expect_clean_failure(run_isg("run " + q(in) + " -o " + q(dir / "ro" / "o.exr")), "not writable",
+                         dir / "ro" / "o.exr");
+  }
+  expect_clean_failure(run_isg("run " + q(in) + " -o " + q(dir / "nodir" / "o.exr")), "does not exist",
+                       dir / "nodir" / "o.exr");
+  // Bad preset values, bad --set, bad scene file, unknown role.
+  std::ofstream(dir / "bad.toml") << "[output]\ncompression = \"jpeg\"\n";
+  expect_clean_failure(run_isg("run " + q(in) + o + " --preset " + q(dir / "bad.toml")), "bad.toml:2", out);
+  expect_clean_failure(run_isg("run " + q(in) + o + " --set shadows.method=magic"), "shadows.method", out);
+  expect_clean_failure(run_isg("run " + q(in) + o + " --set nope.key=1"), "nope.key", out);
+  std::ofstream(dir / "bad.json") << R"({"scene_radius": 1, "lights": [{"name": "key", "type": "sphere", "position": [0,0,1], "radius": -2}]})";
+  expect_clean_failure(run_isg("run " + q(in) + o + " --scene " + q(dir / "bad.json")), "lights[0].radius", out);
+  expect_clean_failure(run_isg("run " + q(in) + o + " --channel colour=R"), "unknown role colour", out);
+  // The input is never overwritten.
+  auto before = fs::file_size(in);
+  auto r = run_isg("run " + q(in) + " -o " + q(in));
+  EXPECT_NE(r.code, 0);
+  EXPECT_NE(r.err.find("is the input file"), std::string::npos) << r.err;
+  EXPECT_EQ(fs::file_size(in), before);
+}
+
+TEST_F(Cli, NoClobberKeepsAnExistingOutput) {
+  std::ofstream(out) << "precious";
+  auto r = run_isg(std::string("run ") + q(in) + " -o " + q(out) + " --no-clobber");
+  EXPECT_NE(r.code, 0);
+  EXPECT_NE(r.err.find("--no-clobber"), std::string::npos) << r.err;
+  std::stringstream s;
+  s << std::ifstream(out).rdbuf();
+  EXPECT_EQ(s.str(), "precious");
+}
+
+TEST(CliShared, InfoFindsContractAndCyclesRoles) {
+  auto c = isg::test::shared_case("contact");
+  if (c.empty()) GTEST_SKIP() << "../shared/cases/contact is absent";
+  auto a = nlohmann::json::parse(run_isg("info " + q(c / "aovs.exr") + " --json").out);
+  auto b = nlohmann::json::parse(run_isg("info " + q(c / "cycles_native.exr") + " --json").out);
+  for (const char* role : {"beauty", "depth", "position", "normal"}) {
+    EXPECT_TRUE(a["roles"][role].is_object()) << role;
+    EXPECT_TRUE(b["roles"][role].is_object()) << role;
+  }
+  for (const char* role : {"key.shadow", "key.occluder", "key.direct"}) EXPECT_TRUE(a["roles"][role].is_object()) << role;
+  EXPECT_EQ(b["layer"], "ViewLayer");
+}
+
+TEST(CliShared, RunOnTheContactCase) {
+  auto c = isg::test::shared_case("contact");
+  if (c.empty()) GTEST_SKIP() << "../shared/cases/contact is absent";
+  auto dir = isg::test::temp_dir("shared-run");
+  auto r = run_isg("run --scene " + q(c / "scene.json") + " " + q(c / "aovs.exr") + " -o " + q(dir / "o.exr"));
+  ASSERT_EQ(r.code, 0) << r.err;
+  auto in = isg::io::read_exr_header(c / "aovs.exr");
+  auto out = isg::io::read_exr(dir / "o.exr");
+  EXPECT_GE(out.channels.size(), in.channels.size() + 5);  // + input.RGBA, key.softshadow
+  EXPECT_EQ(out.attributes.get_string("isg:case"), "contact");  // input attributes kept
+}

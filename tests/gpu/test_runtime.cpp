@@ -1,0 +1,83 @@
+#include <gtest/gtest.h>
+
+#include <numeric>
+
+#include "effects/shadows/hard.h"
+#include "support/gpu_fixture.h"
+
+using isg::test::GpuTest;
+namespace gpu = isg::gpu;
+
+TEST(Devices, ListedAndRanked) {
+  auto devs = gpu::list_devices();
+  ASSERT_FALSE(devs.empty());
+  for (const auto& d : devs) EXPECT_FALSE(d.name.empty());
+}
+
+TEST(Devices, BadSelectionsFailClearly) {
+  gpu::ContextOptions o;
+  o.device = "999";
+  EXPECT_THROW(gpu::Context{o}, gpu::GpuError);
+  o.device = "no-such-device-name";
+  EXPECT_THROW(gpu::Context{o}, gpu::GpuError);
+  // --require-gpu fails exactly when the best device is a CPU implementation.
+  o = {};
+  o.require_gpu = true;
+  bool cpu_only = true;
+  for (const auto& d : gpu::list_devices()) cpu_only = cpu_only && d.type == VK_PHYSICAL_DEVICE_TYPE_CPU;
+  if (cpu_only) {
+    EXPECT_THROW(gpu::Context{o}, gpu::GpuError);
+  } else {
+    EXPECT_NO_THROW(gpu::Context{o});
+  }
+}
+
+TEST_F(GpuTest, BufferRoundTrip) {
+  std::vector<float> v(1000);
+  std::iota(v.begin(), v.end(), -3.5f);
+  gpu::Buffer b(ctx(), v.size() * sizeof(float), "roundtrip");
+  b.upload(std::span<const float>(v));
+  EXPECT_EQ(b.download_as<float>(v.size()), v);
+  // Partial transfers at an offset.
+  std::vector<float> part = {42.f, 43.f};
+  b.upload(part.data(), 8, 40);
+  auto back = b.download_as<float>(v.size());
+  EXPECT_EQ(back[10], 42.f);
+  EXPECT_EQ(back[11], 43.f);
+  EXPECT_EQ(back[12], v[12]);
+}
+
+TEST_F(GpuTest, ImageRoundTrip) {
+  const uint32_t w = 13, h = 7;
+  std::vector<float> v(w * h * 4);
+  std::iota(v.begin(), v.end(), 0.25f);
+  gpu::Image img(ctx(), w, h, VK_FORMAT_R32G32B32A32_SFLOAT, "rgba");
+  img.upload(v.data(), v.size() * sizeof(float));
+  std::vector<float> back(v.size());
+  img.download(back.data(), back.size() * sizeof(float));
+  EXPECT_EQ(back, v);
+}
+
+TEST_F(GpuTest, OversizedBufferFailsClearly) {
+  auto too_big = VkDeviceSize(ctx().info().max_storage_buffer_range) + 16;
+  EXPECT_THROW(gpu::Buffer(ctx(), too_big, "huge"), gpu::GpuError);
+}
+
+TEST_F(GpuTest, HardShadowPassEqualsReferenceAndIsTimed) {
+  const uint32_t w = 37, h = 19;  // not a multiple of the local size
+  std::vector<float> shadow(w * h);
+  for (size_t i = 0; i < shadow.size(); ++i) shadow[i] = float((i * 7919) % 13) / 12.0f;
+  gpu::Buffer in(ctx(), shadow.size() * 4, "L.shadow"), out(ctx(), shadow.size() * 4, "L.softshadow");
+  in.upload(std::span<const float>(shadow));
+  isg::effects::ShadowsHardPass pass(ctx());
+  gpu::Sequence seq(ctx());
+  pass.record(seq, in, out, w, h, "shadows.hard[key]");
+  auto t = seq.submit();
+  EXPECT_EQ(out.download_as<float>(shadow.size()), isg::effects::shadows_hard_reference(shadow));
+  ASSERT_EQ(t.size(), 1u);
+  EXPECT_EQ(t[0].name, "shadows.hard[key]");
+  EXPECT_GE(t[0].ms, 0.0);
+  if (ctx().timestamps()) {
+    EXPECT_GT(t[0].ms, 0.0);
+  }
+}
