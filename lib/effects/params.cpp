@@ -38,6 +38,9 @@ std::vector<Def> output_params() {
        "most channels accepted in one input file, checked before decoding", ""},
       {"limits.max_memory_mb", Type::integer, "16384", 16, 1 << 22, {},
        "most host memory the decoded input may take", "MiB"},
+      {"limits.check_seconds", Type::number, "30", 0, 3600, {},
+       "time OpenEXR's own checker may take on an input before decoding, in a child process "
+       "(0 skips it)", "s"},
   };
 }
 

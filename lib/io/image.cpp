@@ -1,5 +1,7 @@
 #include "io/image.h"
 
+#include "io/exr_check.h"
+
 #include <OpenImageIO/imageio.h>
 #include <unistd.h>
 
@@ -56,14 +58,6 @@ Storage storage_of(OIIO::TypeDesc t) {
   return Storage::other;
 }
 
-bool looks_like_exr(const fs::path& path) {
-  std::ifstream f(path, std::ios::binary);
-  unsigned char magic[4] = {0, 0, 0, 0};
-  f.read(reinterpret_cast<char*>(magic), 4);
-  return f.gcount() == 4 && magic[0] == 0x76 && magic[1] == 0x2f && magic[2] == 0x31 &&
-         magic[3] == 0x01;
-}
-
 // Opens the file and walks its parts' headers, checking them against `limits`.
 std::unique_ptr<OIIO::ImageInput> open_checked(const fs::path& path, const ReadLimits& limits,
                                                Image& img, std::vector<OIIO::ImageSpec>& specs) {
@@ -71,7 +65,8 @@ std::unique_ptr<OIIO::ImageInput> open_checked(const fs::path& path, const ReadL
   std::error_code ec;
   if (!fs::exists(path, ec)) throw IoError(f + ": no such file");
   if (!fs::is_regular_file(path, ec)) throw IoError(f + ": not a regular file");
-  if (!looks_like_exr(path)) throw IoError(f + ": not an OpenEXR file (bad magic number)");
+  // Our own bounds-checked walk of the structure first: no library code sees a file that fails it.
+  check_exr_structure(path, limits);
   auto in = OIIO::ImageInput::open(f);
   if (!in) throw IoError(f + ": cannot be read: " + first_line(OIIO::geterror()));
   if (std::string(in->format_name()) != "openexr") throw IoError(f + ": not an OpenEXR file");
@@ -142,6 +137,10 @@ Image read_exr(const fs::path& path, const ReadLimits& limits) {
     Image img;
     std::vector<OIIO::ImageSpec> specs;
     auto in = open_checked(path, limits, img, specs);
+    if (limits.check_seconds > 0 && !limits.checker.empty()) {
+      check_exr_with_library(path, limits.checker, limits.check_seconds,
+                             uint64_t(limits.max_bytes) + (uint64_t(1) << 30));
+    }
     for (int part = 0; part < img.parts; ++part) {
       const OIIO::ImageSpec& s = specs[part];
       std::vector<float> buf(img.pixels() * size_t(s.nchannels));

@@ -47,6 +47,10 @@ struct ReadLimits {
   int64_t max_pixels = int64_t(1) << 28;  // 268M pixels (16K x 16K)
   int max_channels = 1024;
   int64_t max_bytes = int64_t(16) << 30;  // decoded float bytes
+  // OpenEXR's own checker (the isg-exrcheck executable at `checker`), in a child process,
+  // before pixels are decoded; 0 seconds or an empty path skips it.
+  double check_seconds = 0.0;
+  std::string checker;
 };
 
 // Reads all parts (which must share one data window) into float planes.

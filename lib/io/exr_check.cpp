@@ -1,0 +1,370 @@
+#include "io/exr_check.h"
+
+#include <fcntl.h>
+#include <signal.h>
+#include <sys/resource.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <chrono>
+#include <cstring>
+#include <fstream>
+#include <thread>
+
+#include "io/image.h"
+
+namespace isg::io {
+
+namespace fs = std::filesystem;
+
+namespace {
+
+constexpr uint32_t kMagic = 20000630;  // 0x762f3101
+constexpr uint32_t kTiledFlag = 0x200, kLongNamesFlag = 0x400, kNonImageFlag = 0x800,
+                   kMultipartFlag = 0x1000;
+constexpr int kMaxCompression = 9;  // NONE .. DWAB
+
+// Bounds-checked reads from the file; every failure names the file and the offset.
+class Reader {
+ public:
+  Reader(const fs::path& p, uint64_t size) : path_(p), size_(size), in_(p, std::ios::binary) {
+    if (!in_) fail("cannot be opened");
+  }
+  [[noreturn]] void fail(const std::string& why) const { throw IoError(path_.string() + ": " + why); }
+  uint64_t pos() const { return pos_; }
+  uint64_t size() const { return size_; }
+  void seek(uint64_t p) {
+    if (p > size_) fail("truncated (offset " + std::to_string(p) + " is past the end, " + std::to_string(size_) + " bytes)");
+    pos_ = p;
+    in_.clear();
+    in_.seekg(std::streamoff(p));
+  }
+  void bytes(void* dst, uint64_t n, const char* what) {
+    if (n > size_ || pos_ > size_ - n) fail(std::string("truncated while reading ") + what);
+    in_.read(static_cast<char*>(dst), std::streamsize(n));
+    if (uint64_t(in_.gcount()) != n) fail(std::string("truncated while reading ") + what);
+    pos_ += n;
+  }
+  template <class T>
+  T value(const char* what) {
+    T v{};
+    bytes(&v, sizeof(T), what);  // EXR is little-endian, as is every platform we build for
+    return v;
+  }
+  std::string name(size_t max_len, const char* what) {
+    std::string s;
+    for (;;) {
+      char c = value<char>(what);
+      if (c == 0) return s;
+      s.push_back(c);
+      if (s.size() > max_len) fail(std::string(what) + " longer than " + std::to_string(max_len) + " characters");
+    }
+  }
+
+ private:
+  fs::path path_;
+  uint64_t size_;
+  std::ifstream in_;
+  uint64_t pos_ = 0;
+};
+
+int lines_per_chunk(int compression) {
+  switch (compression) {
+    case 0: case 1: case 2: return 1;     // none, rle, zips
+    case 3: case 5: return 16;            // zip, pxr24
+    case 4: case 6: case 7: case 8: return 32;  // piz, b44, b44a, dwaa
+    case 9: return 256;                   // dwab
+  }
+  return 1;
+}
+
+int64_t ceil_div(int64_t a, int64_t b) { return (a + b - 1) / b; }
+
+int64_t level_count(int64_t size, int rounding) {
+  int64_t n = 1;
+  while (size > 1) {
+    size = rounding ? (size + 1) / 2 : size / 2;
+    ++n;
+  }
+  return n;
+}
+
+int64_t level_size(int64_t size, int64_t level, int rounding) {
+  for (int64_t i = 0; i < level; ++i) size = rounding ? (size + 1) / 2 : size / 2;
+  return std::max<int64_t>(size, 1);
+}
+
+// Chunks a part's offset table must hold, from its header.
+uint64_t expected_chunks(const ExrPartInfo& p, int rounding) {
+  const int64_t w = p.width(), h = p.height();
+  if (!p.tiled) return uint64_t(ceil_div(h, lines_per_chunk(p.compression)));
+  const int64_t tx = p.tile_x, ty = p.tile_y;
+  int64_t total = 0;
+  if (p.level_mode == 0) return uint64_t(ceil_div(w, tx) * ceil_div(h, ty));
+  const int64_t lx = level_count(w, rounding), ly = level_count(h, rounding);
+  if (p.level_mode == 1) {  // mipmap: levels of both axes together
+    for (int64_t l = 0; l < std::max(lx, ly); ++l)
+      total += ceil_div(level_size(w, l, rounding), tx) * ceil_div(level_size(h, l, rounding), ty);
+  } else {  // ripmap
+    for (int64_t j = 0; j < ly; ++j)
+      for (int64_t i = 0; i < lx; ++i)
+        total += ceil_div(level_size(w, i, rounding), tx) * ceil_div(level_size(h, j, rounding), ty);
+  }
+  return uint64_t(total);
+}
+
+}  // namespace
+
+ExrLayout check_exr_structure(const fs::path& path, const ReadLimits& limits) {
+  std::error_code ec;
+  ExrLayout L;
+  L.file_size = fs::file_size(path, ec);
+  if (ec) throw IoError(path.string() + ": cannot be read (" + ec.message() + ")");
+  Reader r(path, L.file_size);
+  if (r.value<uint32_t>("the magic number") != kMagic) r.fail("not an OpenEXR file (bad magic number)");
+  const uint32_t version = r.value<uint32_t>("the version field");
+  if ((version & 0xff) != 2) r.fail("unsupported OpenEXR version " + std::to_string(version & 0xff));
+  if (version & ~uint32_t(0xff | kTiledFlag | kLongNamesFlag | kNonImageFlag | kMultipartFlag)) {
+    r.fail("unknown flags in the version field");
+  }
+  L.multipart = version & kMultipartFlag;
+  L.long_names = version & kLongNamesFlag;
+  const size_t max_name = L.long_names ? 255 : 31;
+
+  int64_t total_channels = 0;
+  std::vector<int> roundings;
+  for (;;) {
+    if (L.multipart) {
+      // An empty header (a single 0 byte) ends the list of parts.
+      char c = r.value<char>("the header list");
+      if (c == 0) break;
+      r.seek(r.pos() - 1);
+    }
+    const std::string part = "part " + std::to_string(L.parts.size());
+    if (L.parts.size() >= 1024) r.fail("more than 1024 parts");
+    ExrPartInfo P;
+    int rounding = 0;
+    for (;;) {
+      std::string name = r.name(max_name, "an attribute name");
+      if (name.empty()) break;
+      ExrAttribute a;
+      a.type = r.name(max_name, "an attribute type");
+      int32_t size = r.value<int32_t>("an attribute size");
+      if (size < 0 || uint64_t(size) > r.size() - r.pos()) {
+        r.fail(part + ": attribute " + name + " has a bad size (" + std::to_string(size) + ")");
+      }
+      a.offset = r.pos();
+      a.size = uint32_t(size);
+      if (P.attributes.count(name)) r.fail(part + ": attribute " + name + " appears twice");
+      const uint64_t end = a.offset + a.size;
+      auto need = [&](const char* type, uint32_t min_size) {
+        if (a.type != type) r.fail(part + ": attribute " + name + " has type " + a.type + ", expected " + type);
+        if (a.size < min_size) r.fail(part + ": attribute " + name + " is too short");
+      };
+      if (name == "channels") {
+        need("chlist", 1);
+        for (;;) {
+          std::string ch = r.name(max_name, "a channel name");
+          if (ch.empty()) break;
+          ExrChannelInfo ci;
+          ci.name = ch;
+          ci.pixel_type = r.value<int32_t>("a channel's pixel type");
+          r.value<uint32_t>("a channel's linear flag");
+          ci.x_sampling = r.value<int32_t>("a channel's x sampling");
+          ci.y_sampling = r.value<int32_t>("a channel's y sampling");
+          if (ci.pixel_type < 0 || ci.pixel_type > 2) {
+            r.fail(part + ": channel " + ch + " has an unknown pixel type " + std::to_string(ci.pixel_type));
+          }
+          if (ci.x_sampling != 1 || ci.y_sampling != 1) {
+            r.fail(part + ": channel " + ch + " is subsampled (" + std::to_string(ci.x_sampling) + "x" +
+                   std::to_string(ci.y_sampling) + "); only full-resolution channels are supported");
+          }
+          P.channels.push_back(ci);
+          if (++total_channels > limits.max_channels) {
+            r.fail("more than " + std::to_string(limits.max_channels) + " channels (limits.max_channels)");
+          }
+          if (r.pos() > end) r.fail(part + ": the channel list overruns its attribute");
+        }
+        if (r.pos() != end) r.fail(part + ": the channel list does not fill its attribute");
+      } else if (name == "compression") {
+        need("compression", 1);
+        P.compression = r.value<uint8_t>("the compression");
+        if (P.compression > kMaxCompression) {
+          r.fail(part + ": unknown compression " + std::to_string(P.compression));
+        }
+      } else if (name == "dataWindow" || name == "displayWindow") {
+        need("box2i", 16);
+        int32_t b[4];
+        for (int& v : b) v = r.value<int32_t>("a window");
+        for (int v : b) {
+          if (v < -(1 << 30) || v > (1 << 30)) r.fail(part + ": " + name + " coordinate " + std::to_string(v) + " is out of range");
+        }
+        if (b[2] < b[0] || b[3] < b[1]) r.fail(part + ": " + name + " is empty or inverted");
+        if (name == "dataWindow") std::memcpy(P.data_window, b, sizeof b);
+      } else if (name == "tiles") {
+        need("tiledesc", 9);
+        P.tile_x = r.value<uint32_t>("the tile width");
+        P.tile_y = r.value<uint32_t>("the tile height");
+        uint8_t mode = r.value<uint8_t>("the tile mode");
+        P.level_mode = mode & 0xf;
+        rounding = mode >> 4;
+        if (P.tile_x == 0 || P.tile_y == 0 || P.tile_x > (1u << 16) || P.tile_y > (1u << 16)) {
+          r.fail(part + ": bad tile size " + std::to_string(P.tile_x) + "x" + std::to_string(P.tile_y));
+        }
+        if (P.level_mode > 2 || rounding > 1) r.fail(part + ": bad tile level mode");
+      } else if (name == "type") {
+        need("string", 1);
+        std::string t(a.size, '\0');
+        r.bytes(t.data(), a.size, "the part type");
+        if (t == "tiledimage") P.tiled = true;
+        else if (t == "deepscanline" || t == "deeptile") P.deep = true;
+        else if (t != "scanlineimage") r.fail(part + ": unknown part type " + t);
+      } else if (name == "chunkCount") {
+        need("int", 4);
+        int32_t n = r.value<int32_t>("the chunk count");
+        if (n <= 0) r.fail(part + ": bad chunkCount " + std::to_string(n));
+        P.chunks = uint64_t(n);
+      }
+      r.seek(end);
+      P.attributes[name] = a;
+    }
+    for (const char* req : {"channels", "compression", "dataWindow", "displayWindow", "lineOrder"}) {
+      if (!P.attributes.count(req)) r.fail(part + ": required attribute " + req + " is missing");
+    }
+    if (!L.multipart && (version & kTiledFlag)) P.tiled = true;
+    if (L.multipart && !P.attributes.count("type")) r.fail(part + ": multi-part file without a part type");
+    if (version & kNonImageFlag) P.deep = true;
+    if (P.deep) r.fail(part + ": deep data is not supported");
+    if (P.tiled && !P.attributes.count("tiles")) r.fail(part + ": tiled part without a tile description");
+    if (P.channels.empty()) r.fail(part + ": has no channels");
+    if (P.width() * P.height() > limits.max_pixels) {
+      r.fail(part + ": data window " + std::to_string(P.width()) + "x" + std::to_string(P.height()) +
+             " exceeds the limit of " + std::to_string(limits.max_pixels) + " pixels (limits.max_megapixels)");
+    }
+    if (!L.parts.empty()) {
+      const auto& first = L.parts.front();
+      if (std::memcmp(first.data_window, P.data_window, sizeof P.data_window) != 0) {
+        r.fail(part + " has a different data window from part 0 (all parts must share one)");
+      }
+    }
+    const uint64_t expected = expected_chunks(P, rounding);
+    if (L.multipart && P.chunks != expected) {
+      r.fail(part + ": chunkCount " + std::to_string(P.chunks) + " disagrees with its header (" +
+             std::to_string(expected) + ")");
+    }
+    P.chunks = expected;
+    roundings.push_back(rounding);
+    L.parts.push_back(P);
+    L.header_ends.push_back(r.pos());
+    if (!L.multipart) break;
+  }
+  if (L.parts.empty()) r.fail("has no parts");
+  int64_t bytes = 0;
+  for (const auto& p : L.parts) bytes += p.width() * p.height() * int64_t(p.channels.size()) * 4;
+  if (bytes > limits.max_bytes) {
+    r.fail("decoding would need " + std::to_string(bytes >> 20) + " MiB, more than limits.max_memory_mb");
+  }
+
+  // Offset tables: every chunk must start inside the file, after the tables.
+  L.offsets_begin = r.pos();
+  uint64_t table_entries = 0;
+  for (const auto& p : L.parts) table_entries += p.chunks;
+  if (table_entries > (r.size() - r.pos()) / 8) {
+    r.fail("truncated: the offset tables need " + std::to_string(table_entries * 8) + " bytes");
+  }
+  L.offsets_end = r.pos() + table_entries * 8;
+  for (size_t pi = 0; pi < L.parts.size(); ++pi) {
+    std::vector<uint64_t> offs(L.parts[pi].chunks);
+    for (auto& o : offs) {
+      o = r.value<uint64_t>("the offset table");
+      if (o < L.offsets_end || o >= r.size()) {
+        r.fail("part " + std::to_string(pi) + ": chunk offset " + std::to_string(o) +
+               (o >= r.size() ? " is past the end of the file (truncated?)" : " points into the header"));
+      }
+    }
+    L.chunk_offsets.push_back(std::move(offs));
+  }
+  // Chunk headers: part number, position, and a data size that fits in the file.
+  for (size_t pi = 0; pi < L.parts.size(); ++pi) {
+    const auto& P = L.parts[pi];
+    for (uint64_t o : L.chunk_offsets[pi]) {
+      r.seek(o);
+      if (L.multipart && r.value<int32_t>("a chunk's part number") != int32_t(pi)) {
+        r.fail("part " + std::to_string(pi) + ": chunk at " + std::to_string(o) + " belongs to another part");
+      }
+      if (P.tiled) {
+        int32_t t[4];
+        for (int& v : t) v = r.value<int32_t>("a tile's coordinates");
+        if (t[0] < 0 || t[1] < 0 || t[2] < 0 || t[3] < 0) r.fail("part " + std::to_string(pi) + ": negative tile coordinates");
+      } else {
+        int32_t y = r.value<int32_t>("a chunk's first line");
+        if (y < P.data_window[1] || y > P.data_window[3]) {
+          r.fail("part " + std::to_string(pi) + ": chunk at " + std::to_string(o) + " starts on line " +
+                 std::to_string(y) + ", outside the data window");
+        }
+      }
+      int32_t size = r.value<int32_t>("a chunk's data size");
+      if (size < 0 || uint64_t(size) > r.size() - r.pos()) {
+        r.fail("part " + std::to_string(pi) + ": chunk at " + std::to_string(o) +
+               " runs past the end of the file (truncated pixel data)");
+      }
+      // Uncompressed data of a chunk can't exceed its lines × width × channels × 4 bytes.
+      const int64_t lines = P.tiled ? int64_t(P.tile_y) : lines_per_chunk(P.compression);
+      const int64_t cols = P.tiled ? int64_t(P.tile_x) : P.width();
+      if (P.compression == 0 && int64_t(size) > lines * cols * int64_t(P.channels.size()) * 4) {
+        r.fail("part " + std::to_string(pi) + ": chunk at " + std::to_string(o) + " is larger than its pixels");
+      }
+    }
+  }
+  return L;
+}
+
+void check_exr_with_library(const fs::path& path, const std::string& checker, double seconds,
+                            uint64_t memory_bytes) {
+  const std::string f = path.string();
+  if (::access(checker.c_str(), X_OK) != 0) {
+    throw IoError(f + ": cannot check the file: " + checker + " is missing (set limits.check_seconds = 0 to skip)");
+  }
+  std::string arg0 = "isg-exrcheck";
+  char* argv[] = {arg0.data(), const_cast<char*>(f.c_str()), nullptr};
+  pid_t pid = ::fork();
+  if (pid < 0) throw IoError(f + ": cannot start the file checker (fork failed)");
+  if (pid == 0) {
+    // Child: only async-signal-safe calls before exec.
+    struct rlimit rl {};
+    rl.rlim_cur = rl.rlim_max = memory_bytes;
+    ::setrlimit(RLIMIT_AS, &rl);
+    int devnull = ::open("/dev/null", O_WRONLY);
+    if (devnull >= 0) {
+      ::dup2(devnull, 1);
+      ::dup2(devnull, 2);
+    }
+    ::execv(checker.c_str(), argv);
+    ::_exit(4);
+  }
+  auto start = std::chrono::steady_clock::now();
+  int status = 0;
+  for (;;) {
+    pid_t w = ::waitpid(pid, &status, WNOHANG);
+    if (w == pid) break;
+    if (w < 0) throw IoError(f + ": the file checker vanished");
+    double el = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    if (el > seconds) {
+      ::kill(pid, SIGKILL);
+      ::waitpid(pid, &status, 0);
+      throw IoError(f + ": damaged EXR: OpenEXR's checker did not finish in " +
+                    std::to_string(int(seconds)) + " s (limits.check_seconds)");
+    }
+    std::this_thread::sleep_for(std::chrono::milliseconds(el < 0.05 ? 1 : 10));
+  }
+  if (WIFSIGNALED(status)) {
+    throw IoError(f + ": damaged EXR: OpenEXR's checker crashed (signal " +
+                  std::to_string(WTERMSIG(status)) + ")");
+  }
+  int code = WIFEXITED(status) ? WEXITSTATUS(status) : 3;
+  if (code == 1) throw IoError(f + ": damaged EXR: OpenEXR's checker found corrupt data");
+  if (code == 4) throw IoError(f + ": cannot check the file: " + checker + " did not start");
+  if (code != 0) throw IoError(f + ": damaged EXR: OpenEXR's checker failed (out of memory or an exception)");
+}
+
+}  // namespace isg::io
