@@ -12,6 +12,8 @@ pkgs=(cmake ninja-build g++ pkg-config
       libopenimageio-dev libopenexr-dev
       libvulkan-dev mesa-vulkan-drivers vulkan-validationlayers glslang-tools
       libcli11-dev libtomlplusplus-dev nlohmann-json3-dev libgtest-dev)
+# The test suite also builds the libFuzzer harnesses with clang.
+[ "$mode" = test ] && pkgs+=(clang libclang-rt-14-dev)
 missing=()
 for p in "${pkgs[@]}"; do
   dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")

@@ -265,9 +265,11 @@ Scene parse_scene(const std::string& text, const fs::path& path) {
   json j;
   try {
     j = json::parse(text);
-  } catch (const json::parse_error& e) {
+  } catch (const json::exception& e) {
+    // parse_error, and out_of_range for numbers beyond double (found by fuzz_scene).
     std::string what = e.what();
-    throw IoError(f + ": not valid JSON (" + what.substr(what.find(']') + 2) + ")");
+    auto b = what.find("] ");
+    throw IoError(f + ": not valid JSON (" + (b == std::string::npos ? what : what.substr(b + 2)) + ")");
   }
   Scene s;
   s.path = path;

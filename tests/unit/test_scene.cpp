@@ -61,6 +61,7 @@ TEST(Scene, BadValuesNameTheKey) {
                "camera.world_to_camera");
   expect_error(with("\"name\": \"fill\"", "\"name\": \"key\""), "duplicate light name");
   expect_error("{\"scene_radius\": 1", "not valid JSON");
+  expect_error("{\"scene_radius\": 1e999}", "not valid JSON");  // found by fuzz_scene
   expect_error(with("\"size\": [1, 2]", "\"size\": [1, 0]"), "lights[1].size");
 }
 
