@@ -281,18 +281,39 @@ int cmd_info(const Common& c, const std::string& input, bool as_json) {
 // ---- isg compare ----
 
 int cmd_compare(const std::string& a_path, const std::string& b_path, const std::string& mask_name,
-                const std::vector<std::string>& channels, bool as_json) {
+                const std::vector<std::string>& channels, bool as_json,
+                const std::string& heatmap_path, double heatmap_max) {
   auto limits = limits_of(isg::effects::default_params());
   auto a = isg::io::read_exr(a_path, limits);
   auto b = isg::io::read_exr(b_path, limits);
   std::vector<float> mask;
   if (!mask_name.empty()) {
-    const isg::io::Channel* m = b.find(mask_name);
-    if (!m) m = a.find(mask_name);
-    if (!m) throw isg::io::IoError("--mask " + mask_name + ": neither " + a_path + " nor " + b_path + " has that channel");
-    mask = m->data;
+    // CHANNEL (looked up in B, then A) or FILE:CHANNEL (a third image, e.g. a case's mask).
+    auto colon = mask_name.rfind(':');
+    if (colon != std::string::npos && colon > 0) {
+      auto m = isg::io::read_exr(mask_name.substr(0, colon), limits);
+      const isg::io::Channel* c = m.find(mask_name.substr(colon + 1));
+      if (!c) throw isg::io::IoError(mask_name.substr(0, colon) + ": no channel " + mask_name.substr(colon + 1) + " (--mask)");
+      if (m.width != a.width || m.height != a.height) {
+        throw isg::io::IoError(mask_name.substr(0, colon) + ": mask size differs from " + a_path);
+      }
+      mask = c->data;
+    } else {
+      const isg::io::Channel* m = b.find(mask_name);
+      if (!m) m = a.find(mask_name);
+      if (!m) throw isg::io::IoError("--mask " + mask_name + ": neither " + a_path + " nor " + b_path + " has that channel");
+      mask = m->data;
+    }
   }
   auto r = isg::metrics::compare(a, b, channels, mask);
+  if (!heatmap_path.empty()) {
+    std::vector<std::string> names;
+    for (const auto& m : r.channels) names.push_back(m.channel);
+    auto h = isg::metrics::heatmap(a, b, names, mask, heatmap_max);
+    isg::io::write_picture(heatmap_path, h.width, h.height, h.rgb);
+    std::cerr << "heat-map " << heatmap_path << ": mean |error| over " << join(names, ",")
+              << ", scale 0 (black) to " << h.max_error << " (yellow)\n";
+  }
   if (as_json) {
     json j;
     auto row = [](const isg::metrics::Metrics& m) {
@@ -374,9 +395,13 @@ int main(int argc, char** argv) {
   auto* cmp = app.add_subcommand("compare", "error metrics of A against B, per channel");
   cmp->add_option("a", ca, "image")->required();
   cmp->add_option("b", cb, "reference")->required();
-  cmp->add_option("--mask", cmask, "channel (in B, else A) selecting the pixels to count");
+  cmp->add_option("--mask", cmask, "CHANNEL (in B, else A) or FILE:CHANNEL selecting the pixels to count");
   cmp->add_option("--channels", cchan, "channels to compare (default: all both have)")->delimiter(',');
   cmp->add_flag("--json", cjson, "machine-readable output");
+  std::string cheat;
+  double cheat_max = 0;
+  cmp->add_option("--heatmap", cheat, "write an error heat-map picture (.png/.jpg)");
+  cmp->add_option("--heatmap-max", cheat_max, "error shown as full scale (default: 99th percentile)");
 
   auto* devices = app.add_subcommand("devices", "list Vulkan devices");
   auto* presets = app.add_subcommand("presets", "list shipped presets");
@@ -389,7 +414,7 @@ int main(int argc, char** argv) {
   try {
     if (*run) return cmd_run(ra);
     if (*info) return cmd_info(ic, info_input, info_json);
-    if (*cmp) return cmd_compare(ca, cb, cmask, cchan, cjson);
+    if (*cmp) return cmd_compare(ca, cb, cmask, cchan, cjson, cheat, cheat_max);
     if (*devices) return cmd_devices();
     if (*presets) return cmd_presets();
   } catch (const std::bad_alloc&) {

@@ -273,4 +273,27 @@ void write_exr(const fs::path& path, const Image& img, const WriteOptions& opt) 
   if (ec) fail(ec.message());
 }
 
+void write_picture(const fs::path& path, int width, int height,
+                   const std::vector<unsigned char>& rgb, bool no_clobber) {
+  const std::string f = path.string();
+  check_writable(path, {"zip", no_clobber});
+  std::string ext = path.extension().string();
+  for (auto& c : ext) c = char(std::tolower(c));
+  if (ext != ".png" && ext != ".jpg" && ext != ".jpeg") throw IoError(f + ": pictures are .png or .jpg");
+  std::string tmp_name(1, '.');
+  tmp_name.append(path.filename().string()).append(".tmp").append(ext);
+  fs::path tmp = path;
+  tmp.replace_filename(tmp_name);
+  auto out = OIIO::ImageOutput::create(tmp.string());
+  OIIO::ImageSpec spec(width, height, 3, OIIO::TypeDesc::UINT8);
+  bool ok = out && out->open(tmp.string(), spec) &&
+            out->write_image(OIIO::TypeDesc::UINT8, rgb.data()) && out->close();
+  std::error_code ec;
+  if (ok) fs::rename(tmp, path, ec);
+  if (!ok || ec) {
+    fs::remove(tmp, ec);
+    throw IoError(f + ": cannot write the picture" + (out ? ": " + first_line(out->geterror()) : std::string()));
+  }
+}
+
 }  // namespace isg::io

@@ -79,4 +79,8 @@ void check_writable(const std::filesystem::path& path, const WriteOptions& opt);
 // renamed over the target only once it is complete.
 void write_exr(const std::filesystem::path& path, const Image& img, const WriteOptions& opt);
 
+// Writes an 8-bit RGB picture (PNG or JPEG by extension), atomically like write_exr.
+void write_picture(const std::filesystem::path& path, int width, int height,
+                   const std::vector<unsigned char>& rgb, bool no_clobber = false);
+
 }  // namespace isg::io

@@ -115,3 +115,58 @@ Comparison compare(const io::Image& a, const io::Image& b, std::vector<std::stri
 }
 
 }  // namespace isg::metrics
+
+namespace isg::metrics {
+
+namespace {
+// A few stops of a magma-like ramp; linear in between.
+void ramp(double t, unsigned char* out) {
+  static const double stops[][3] = {{0, 0, 4},       {59, 15, 112},   {140, 41, 129},
+                                    {222, 73, 104},  {254, 159, 109}, {252, 253, 191}};
+  t = std::clamp(t, 0.0, 1.0) * 5.0;
+  int i = std::min(int(t), 4);
+  double f = t - i;
+  for (int c = 0; c < 3; ++c) out[c] = (unsigned char)std::lround(stops[i][c] * (1 - f) + stops[i + 1][c] * f);
+}
+}  // namespace
+
+Heatmap heatmap(const io::Image& a, const io::Image& b, const std::vector<std::string>& channels,
+                const std::vector<float>& mask, double max_error) {
+  if (a.width != b.width || a.height != b.height) throw io::IoError(b.path.string() + ": size differs from " + a.path.string());
+  const size_t n = a.pixels();
+  std::vector<double> err(n, 0.0);
+  for (const auto& name : channels) {
+    const io::Channel* ca = a.find(name);
+    const io::Channel* cb = b.find(name);
+    if (!ca) throw io::IoError(a.path.string() + ": no channel " + name);
+    if (!cb) throw io::IoError(b.path.string() + ": no channel " + name);
+    for (size_t i = 0; i < n; ++i) err[i] += std::abs(double(ca->data[i]) - double(cb->data[i])) / double(channels.size());
+  }
+  Heatmap h;
+  h.width = a.width;
+  h.height = a.height;
+  h.max_error = max_error;
+  if (h.max_error <= 0) {
+    std::vector<double> in;
+    for (size_t i = 0; i < n; ++i)
+      if (mask.empty() || mask[i] > 0.5f) in.push_back(err[i]);
+    if (!in.empty()) {
+      size_t k = std::min(in.size() - 1, size_t(0.99 * double(in.size())));
+      std::nth_element(in.begin(), in.begin() + long(k), in.end());
+      h.max_error = in[k];
+    }
+    if (h.max_error <= 0) h.max_error = 1e-6;
+  }
+  h.rgb.resize(3 * n);
+  for (size_t i = 0; i < n; ++i) {
+    unsigned char* px = h.rgb.data() + 3 * i;
+    if (!mask.empty() && !(mask[i] > 0.5f)) {
+      px[0] = px[1] = px[2] = 96;
+      continue;
+    }
+    ramp(err[i] / h.max_error, px);
+  }
+  return h;
+}
+
+}  // namespace isg::metrics

@@ -29,3 +29,18 @@ Comparison compare(const io::Image& a, const io::Image& b, std::vector<std::stri
                    const std::vector<float>& mask);
 
 }  // namespace isg::metrics
+
+namespace isg::metrics {
+
+// An error heat-map: per pixel, the mean over `channels` of |a − b|, mapped through a
+// perceptual ramp (black → purple → orange → yellow) from 0 to `max_error` (≤ 0: the 99th
+// percentile of the error). Pixels outside the mask are grey. Returns 8-bit RGB, and the scale.
+struct Heatmap {
+  int width = 0, height = 0;
+  std::vector<unsigned char> rgb;
+  double max_error = 0;
+};
+Heatmap heatmap(const io::Image& a, const io::Image& b, const std::vector<std::string>& channels,
+                const std::vector<float>& mask, double max_error);
+
+}  // namespace isg::metrics

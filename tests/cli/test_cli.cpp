@@ -123,6 +123,25 @@ TEST_F(Cli, CompareReportsClosedFormMetrics) {
   EXPECT_NEAR(j["all"]["max_abs"].get<double>(), 0.25, 1e-9);
 }
 
+TEST_F(Cli, CompareMaskFromAThirdFileAndHeatmap) {
+  auto a = isg::test::make_image(8, 4, {"R"}, [](auto&, int, int) { return 0.0f; });
+  auto b = isg::test::make_image(8, 4, {"R"}, [](auto&, int x, int) { return x < 4 ? 0.1f : 0.3f; });
+  auto m = isg::test::make_image(8, 4, {"mask"}, [](auto&, int x, int) { return float(x >= 4); });
+  isg::io::write_exr(dir / "a.exr", a, {});
+  isg::io::write_exr(dir / "b.exr", b, {});
+  isg::io::write_exr(dir / "m.exr", m, {});
+  auto r = run_isg("compare " + q(dir / "a.exr") + " " + q(dir / "b.exr") + " --json --mask " +
+                   q(dir / "m.exr") + ":mask --heatmap " + q(dir / "h.png"));
+  ASSERT_EQ(r.code, 0) << r.err;
+  auto j = nlohmann::json::parse(r.out);
+  EXPECT_EQ(j["all"]["pixels"], 16);
+  EXPECT_NEAR(j["all"]["rmse"].get<double>(), 0.3, 1e-6);
+  auto h = isg::io::read_exr_header(dir / "m.exr");  // the mask file is untouched
+  EXPECT_EQ(h.width, 8);
+  EXPECT_TRUE(fs::exists(dir / "h.png"));
+  EXPECT_GT(fs::file_size(dir / "h.png"), 50u);
+}
+
 TEST_F(Cli, DryRunPrintsThePlanAndWritesNothing) {
   auto r = run_isg(std::string("run ") + q(in) + " -o " + q(out) + " --dry-run --set shadows.method=none");
   ASSERT_EQ(r.code, 0) << r.err;
