@@ -12,6 +12,7 @@
 
 #include "effects/params.h"
 #include "gpu/gpu.h"
+#include "io/color.h"
 #include "io/image.h"
 #include "io/roles.h"
 #include "io/scene.h"
@@ -137,7 +138,7 @@ std::string join(const std::vector<std::string>& v, const char* sep = " ") {
 
 struct RunArgs {
   Common common;
-  std::string input, output, device, compression;
+  std::string input, output, device, compression, preview, input_colorspace;
   bool require_gpu = false, timings = false, dry_run = false, print_preset = false;
   bool no_clobber = false, validation = false;
 };
@@ -158,6 +159,7 @@ int cmd_run(const RunArgs& a) {
       throw isg::io::IoError(a.output + ": is the input file; isg never overwrites its input");
     }
     isg::io::check_writable(a.output, wopt);
+    if (!a.preview.empty()) isg::io::check_writable(a.preview, wopt);
   }
   auto scene = load_scene(a.common);
   auto header = isg::io::read_exr_header(a.input, limits_of(p));
@@ -178,6 +180,12 @@ int cmd_run(const RunArgs& a) {
   for (const auto& nf : isg::io::sanitize(img)) {
     std::cerr << "isg: warning: " << a.input << ": channel " << nf.channel << " had " << nf.count
               << " NaN/Inf values, set to 0\n";
+  }
+  const isg::io::RoleBinding* beauty = roles.get("beauty");
+  if (!a.input_colorspace.empty()) {
+    std::vector<std::string> rgb(beauty->terms.front().begin(), beauty->terms.front().begin() + 3);
+    isg::io::to_scene_linear(img, rgb, a.input_colorspace);
+    img.attributes.attribute("isg:input_colorspace", a.input_colorspace);
   }
 
   auto t_gpu = Clock::now();
@@ -204,6 +212,12 @@ int cmd_run(const RunArgs& a) {
   double write_ms = ms_since(t_write);
   std::cout << "wrote " << a.output << " (" << img.width << "x" << img.height << ", "
             << img.channels.size() << " channels)\n";
+  if (!a.preview.empty()) {
+    auto pic = isg::io::display_picture(img, {"R", "G", "B"}, {});
+    isg::io::write_picture(a.preview, img.width, img.height, pic, a.no_clobber);
+    std::cout << "wrote " << a.preview << " (display picture, OpenColorIO "
+              << isg::io::color_config_description() << ")\n";
+  }
   if (a.timings) {
     std::cout << std::fixed << std::setprecision(3);
     std::cout << "device: " << ctx.info().name << " (" << ctx.info().type_name << ")\n";
@@ -380,6 +394,11 @@ int main(int argc, char** argv) {
   run->add_option("--compression", ra.compression, "EXR compression (output.compression)");
   run->add_flag("--no-clobber", ra.no_clobber, "fail rather than replace an existing output");
   run->add_flag("--validation", ra.validation, "enable the Khronos validation layer");
+  run->add_option("--preview", ra.preview,
+                  "also write a display picture (.png/.jpg) of the composite through the "
+                  "OpenColorIO view transform ($OCIO, or the built-in sRGB config)");
+  run->add_option("--input-colorspace", ra.input_colorspace,
+                  "colour space of a beauty that is not scene-linear (an OpenColorIO name)");
 
   Common ic;
   std::string info_input;

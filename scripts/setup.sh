@@ -10,7 +10,7 @@ cd "$(dirname "$0")/.."
 # Debian 12 packages only; nothing vendored.
 pkgs=(cmake ninja-build g++ pkg-config
       libopenimageio-dev libopenexr-dev
-      libvulkan-dev mesa-vulkan-drivers vulkan-validationlayers glslang-tools
+      libopencolorio-dev libvulkan-dev mesa-vulkan-drivers vulkan-validationlayers glslang-tools
       libcli11-dev libtomlplusplus-dev nlohmann-json3-dev libgtest-dev)
 # The test suite also builds the libFuzzer harnesses with clang.
 [ "$mode" = test ] && pkgs+=(clang libclang-rt-14-dev)
