@@ -4,6 +4,9 @@
 #include <unistd.h>
 
 #include <chrono>
+#include <future>
+#include <memory>
+#include <optional>
 #include <cstdio>
 #include <filesystem>
 #include <iomanip>
@@ -18,6 +21,7 @@
 #include "io/scene.h"
 #include "metrics/compare.h"
 #include "plan/plan.h"
+#include "run/job.h"
 #include "run/run.h"
 
 #ifndef ISG_VERSION
@@ -136,101 +140,247 @@ std::string join(const std::vector<std::string>& v, const char* sep = " ") {
 
 // ---- isg run ----
 
+// Exit status a farm manager can act on.
+enum Exit { kOk = 0, kError = 1, kUsage = 2, kSomeFramesFailed = 3 };
+
 struct RunArgs {
   Common common;
-  std::string input, output, device, compression, preview, input_colorspace;
+  std::string input, output, device, compression, preview, input_colorspace, frames;
   bool require_gpu = false, timings = false, dry_run = false, print_preset = false;
-  bool no_clobber = false, validation = false;
+  bool no_clobber = false, validation = false, skip_existing = false, keep_going = false;
 };
 
-int cmd_run(const RunArgs& a) {
-  auto t_start = Clock::now();
-  auto p = build_params(a.common, a.compression);
-  if (a.print_preset) {
-    std::cout << p.to_toml();
-    return 0;
-  }
-  if (a.input.empty()) throw isg::io::IoError("isg run: no input file given");
-  if (a.output.empty() && !a.dry_run) throw isg::io::IoError("isg run: no output given (-o FILE)");
-  isg::io::WriteOptions wopt{p.choice("output.compression"), a.no_clobber};
-  if (!a.dry_run) {
-    std::error_code ec;
-    if (fs::exists(a.output, ec) && fs::equivalent(a.input, a.output, ec)) {
-      throw isg::io::IoError(a.output + ": is the input file; isg never overwrites its input");
-    }
-    isg::io::check_writable(a.output, wopt);
-    if (!a.preview.empty()) isg::io::check_writable(a.preview, wopt);
-  }
-  auto scene = load_scene(a.common);
-  auto header = isg::io::read_exr_header(a.input, limits_of(p));
-  auto req = role_request(a.common, p, scene);
-  auto roles = isg::io::resolve_roles(header.channel_names(), req, a.input);
-  check_override_roles(req, roles);
-  auto plan = isg::plan::make_plan(roles, scene, p, header.width, header.height);
-  if (a.dry_run) {
-    std::cout << plan.describe();
-    return plan.missing.empty() ? 0 : 1;
-  }
-  if (!plan.missing.empty()) {
-    throw isg::io::IoError(a.input + ": missing required channels for role " + plan.missing.front());
-  }
-  auto t_read = Clock::now();
-  auto img = isg::io::read_exr(a.input, limits_of(p));
-  double read_ms = ms_since(t_read);
-  for (const auto& nf : isg::io::sanitize(img)) {
-    std::cerr << "isg: warning: " << a.input << ": channel " << nf.channel << " had " << nf.count
-              << " NaN/Inf values, set to 0\n";
-  }
-  const isg::io::RoleBinding* beauty = roles.get("beauty");
-  if (!a.input_colorspace.empty()) {
-    std::vector<std::string> rgb(beauty->terms.front().begin(), beauty->terms.front().begin() + 3);
-    isg::io::to_scene_linear(img, rgb, a.input_colorspace);
-    img.attributes.attribute("isg:input_colorspace", a.input_colorspace);
-  }
+isg::run::JobConfig make_job(const RunArgs& a, isg::params::Params p) {
+  isg::run::JobConfig job{load_scene(a.common), a.common.scene, std::move(p), {}, {}, {}, a.input_colorspace, ISG_VERSION};
+  job.request = role_request(a.common, job.params, job.scene);
+  job.limits = limits_of(job.params);
+  job.write = {job.params.choice("output.compression"), a.no_clobber};
+  return job;
+}
 
-  auto t_gpu = Clock::now();
+isg::gpu::Context make_context(const RunArgs& a) {
   isg::gpu::ContextOptions copt;
   copt.device = a.device;
   copt.require_gpu = a.require_gpu;
   copt.validation = a.validation;
   copt.on_message = [](const std::string& m) { std::cerr << "isg: vulkan: " << m << "\n"; };
-  isg::gpu::Context ctx(copt);
+  return isg::gpu::Context(copt);
+}
+
+void warn_nonfinite(const isg::run::LoadedFrame& f) {
+  for (const auto& nf : f.nonfinite) {
+    std::cerr << "isg: warning: " << f.input << ": channel " << nf.channel << " had " << nf.count
+              << " NaN/Inf values, set to 0\n";
+  }
+}
+
+void print_timings(const isg::gpu::Context& ctx, const isg::run::LoadedFrame& f,
+                   const isg::run::Stats& st, double init_ms, double write_ms, double total_ms) {
+  std::cout << std::fixed << std::setprecision(3);
+  std::cout << "device: " << ctx.info().name << " (" << ctx.info().type_name << ")\n";
+  std::cout << "GPU time per pass (timestamp queries):\n";
+  for (const auto& t : st.passes) std::cout << "  " << std::left << std::setw(28) << t.name << t.ms << " ms\n";
+  std::cout << "  " << std::setw(28) << "total" << st.gpu_ms() << " ms\n";
+  std::cout << "wall: read " << f.read_ms << " ms, device init " << init_ms << " ms, upload "
+            << st.upload_ms << " ms, record " << st.record_ms << " ms, submit+wait "
+            << st.gpu_wall_ms << " ms, download " << st.download_ms << " ms, write " << write_ms
+            << " ms, total " << total_ms << " ms\n";
+  std::cout << "GPU memory for the plan: " << f.plan.gpu_bytes() / 1024 << " KiB\n";
+}
+
+int run_single(const RunArgs& a, isg::run::JobConfig& job) {
+  auto t_start = Clock::now();
+  if (a.dry_run) {
+    auto f = isg::run::plan_frame(job, a.input);
+    std::cout << f.plan.describe();
+    return f.plan.missing.empty() ? kOk : kError;
+  }
+  isg::io::check_writable(a.output, job.write);
+  if (!a.preview.empty()) isg::io::check_writable(a.preview, job.write);
+  auto f = isg::run::load_frame(job, a.input);
+  warn_nonfinite(f);
+  auto t_gpu = Clock::now();
+  auto ctx = make_context(a);
   double init_ms = ms_since(t_gpu);
-  auto stats = isg::run::execute(ctx, plan, roles, img);
-
-  // Provenance: tool version, device, preset, every parameter.
-  img.attributes.remove("isg:version");
-  img.attributes.attribute("isg:version", ISG_VERSION);
-  img.attributes.attribute("isg:device", ctx.info().name + " (" + ctx.info().type_name + ")");
-  img.attributes.attribute("isg:preset", p.preset_name());
-  for (const auto& d : p.defs()) img.attributes.attribute("isg:param:" + d.key, p.text(d.key));
-  img.attributes.attribute("isg:input", fs::absolute(a.input).string());
-  if (!a.common.scene.empty()) img.attributes.attribute("isg:scene", fs::absolute(a.common.scene).string());
-
-  auto t_write = Clock::now();
-  isg::io::write_exr(a.output, img, wopt);
-  double write_ms = ms_since(t_write);
-  std::cout << "wrote " << a.output << " (" << img.width << "x" << img.height << ", "
-            << img.channels.size() << " channels)\n";
+  auto st = isg::run::process_frame(ctx, job, f);
+  double write_ms = isg::run::write_frame(job, f, a.output);
+  std::cout << "wrote " << a.output << " (" << f.img.width << "x" << f.img.height << ", "
+            << f.img.channels.size() << " channels)\n";
   if (!a.preview.empty()) {
-    auto pic = isg::io::display_picture(img, {"R", "G", "B"}, {});
-    isg::io::write_picture(a.preview, img.width, img.height, pic, a.no_clobber);
+    auto pic = isg::io::display_picture(f.img, {"R", "G", "B"}, {});
+    isg::io::write_picture(a.preview, f.img.width, f.img.height, pic, a.no_clobber);
     std::cout << "wrote " << a.preview << " (display picture, OpenColorIO "
               << isg::io::color_config_description() << ")\n";
   }
-  if (a.timings) {
-    std::cout << std::fixed << std::setprecision(3);
-    std::cout << "device: " << ctx.info().name << " (" << ctx.info().type_name << ")\n";
-    std::cout << "GPU time per pass (timestamp queries):\n";
-    for (const auto& t : stats.passes) std::cout << "  " << std::left << std::setw(28) << t.name << t.ms << " ms\n";
-    std::cout << "  " << std::setw(28) << "total" << stats.gpu_ms() << " ms\n";
-    std::cout << "wall: read " << read_ms << " ms, device init " << init_ms << " ms, upload "
-              << stats.upload_ms << " ms, record " << stats.record_ms << " ms, submit+wait "
-              << stats.gpu_wall_ms << " ms, download " << stats.download_ms << " ms, write "
-              << write_ms << " ms, total " << ms_since(t_start) << " ms\n";
-    std::cout << "GPU memory for the plan: " << plan.gpu_bytes() / 1024 << " KiB\n";
+  if (a.timings) print_timings(ctx, f, st, init_ms, write_ms, ms_since(t_start));
+  return kOk;
+}
+
+// Progress on a terminal (one line, redrawn) or plain lines for logs.
+class Progress {
+ public:
+  explicit Progress(size_t total) : total_(total), tty_(::isatty(2)), start_(Clock::now()) {}
+  void frame(const std::string& what, bool done_one) {
+    if (done_one) ++done_;
+    double s = ms_since(start_) / 1000.0;
+    double rate = s > 0 ? double(done_) / s : 0;
+    double eta = rate > 0 ? double(total_ - done_ - skipped_ - failed_) / rate : 0;
+    std::ostringstream line;
+    line << std::fixed << std::setprecision(2) << done_ + skipped_ + failed_ << "/" << total_
+         << " frames, " << rate << " fps, ETA " << std::setprecision(0) << eta << " s";
+    if (tty_) {
+      size_t n = done_ + skipped_ + failed_;
+      int width = 30, filled = total_ ? int(width * n / total_) : width;
+      std::cerr << "\r[" << std::string(filled, '=') << std::string(width - filled, ' ') << "] "
+                << line.str() << "  " << what << "\x1b[K" << std::flush;
+    } else {
+      std::cerr << what << " (" << line.str() << ")\n";
+    }
   }
-  return 0;
+  void skipped(const std::string& what) {
+    ++skipped_;
+    frame(what, false);
+  }
+  void failed(const std::string& msg) {
+    ++failed_;
+    if (tty_) std::cerr << "\r\x1b[K";
+    std::cerr << "isg: error: " << msg << "\n";
+  }
+  void finish() {
+    if (tty_) std::cerr << "\n";
+  }
+  size_t done() const { return done_; }
+  size_t failed_count() const { return failed_; }
+  size_t skipped_count() const { return skipped_; }
+  double seconds() const { return ms_since(start_) / 1000.0; }
+
+ private:
+  size_t total_, done_ = 0, skipped_ = 0, failed_ = 0;
+  bool tty_;
+  Clock::time_point start_;
+};
+
+// A frame range: one device for all frames; frame i+1 is read and frame i−1 written while
+// frame i is on the device.
+int run_sequence(const RunArgs& a, isg::run::JobConfig& job) {
+  if (a.frames.empty()) throw isg::io::IoError(a.input + ": a frame pattern needs --frames A-B");
+  if (!isg::run::is_sequence_pattern(a.output)) {
+    throw isg::io::IoError(a.output + ": -o needs a frame pattern (#### or %04d) for a sequence");
+  }
+  std::vector<int> frames;
+  try {
+    frames = isg::run::parse_frames(a.frames);
+  } catch (const std::invalid_argument& e) {
+    throw isg::io::IoError(e.what());
+  }
+  if (a.dry_run) {
+    auto f = isg::run::plan_frame(job, isg::run::expand_pattern(a.input, frames.front()));
+    std::cout << frames.size() << " frames; first frame's " << f.plan.describe();
+    return f.plan.missing.empty() ? kOk : kError;
+  }
+  isg::io::check_writable(isg::run::expand_pattern(a.output, frames.front()), {job.write.compression, false});
+  std::vector<int> todo;
+  Progress progress(frames.size());
+  for (int fr : frames) {
+    std::string out = isg::run::expand_pattern(a.output, fr);
+    std::error_code ec;
+    if (a.skip_existing && fs::exists(out, ec) && fs::file_size(out, ec) > 0) {
+      progress.skipped("frame " + std::to_string(fr) + ": " + out + " exists, skipped");
+    } else {
+      todo.push_back(fr);
+    }
+  }
+  if (todo.empty()) {
+    progress.finish();
+    std::cout << "nothing to do: all " << frames.size() << " outputs exist\n";
+    return kOk;
+  }
+  auto ctx = make_context(a);
+  auto load = [&](int fr) {
+    return std::async(std::launch::async, [&job, &a, fr] {
+      return isg::run::load_frame(job, isg::run::expand_pattern(a.input, fr));
+    });
+  };
+  std::future<isg::run::LoadedFrame> next = load(todo.front());
+  std::future<void> writing;
+  std::string write_error;
+  double gpu_ms = 0;
+  auto finish_write = [&] {
+    if (!writing.valid()) return;
+    try {
+      writing.get();
+    } catch (const std::exception& e) {
+      write_error = e.what();
+    }
+  };
+  for (size_t i = 0; i < todo.size(); ++i) {
+    const int fr = todo[i];
+    const std::string out = isg::run::expand_pattern(a.output, fr);
+    std::optional<isg::run::LoadedFrame> f;
+    std::string error;
+    try {
+      f.emplace(next.get());
+    } catch (const std::exception& e) {
+      error = e.what();
+    }
+    if (i + 1 < todo.size()) next = load(todo[i + 1]);
+    if (f) {
+      try {
+        warn_nonfinite(*f);
+        gpu_ms += isg::run::process_frame(ctx, job, *f).gpu_ms();
+      } catch (const std::exception& e) {
+        error = e.what();
+        f.reset();
+      }
+    }
+    finish_write();
+    if (!write_error.empty()) {
+      progress.failed(write_error);
+      write_error.clear();
+      if (!a.keep_going) break;
+    }
+    if (!error.empty()) {
+      progress.failed("frame " + std::to_string(fr) + ": " + error);
+      if (!a.keep_going) break;
+      continue;
+    }
+    auto shared = std::make_shared<isg::run::LoadedFrame>(std::move(*f));
+    writing = std::async(std::launch::async, [&job, shared, out, fr, &progress] {
+      isg::run::write_frame(job, *shared, out);
+      progress.frame("frame " + std::to_string(fr) + ": wrote " + out, true);
+    });
+  }
+  finish_write();
+  if (!write_error.empty()) progress.failed(write_error);
+  if (next.valid()) next.wait();
+  progress.finish();
+  std::cout << std::fixed << std::setprecision(2) << "frames: " << progress.done() << " written, "
+            << progress.skipped_count() << " skipped (existing), " << progress.failed_count()
+            << " failed, in " << progress.seconds() << " s ("
+            << (progress.seconds() > 0 ? double(progress.done()) / progress.seconds() : 0.0)
+            << " fps; GPU " << gpu_ms << " ms)\n";
+  if (progress.failed_count() == 0) return kOk;
+  return a.keep_going ? kSomeFramesFailed : kError;
+}
+
+int cmd_run(const RunArgs& a) {
+  auto p = build_params(a.common, a.compression);
+  if (a.print_preset) {
+    std::cout << p.to_toml();
+    return kOk;
+  }
+  if (a.input.empty()) throw isg::io::IoError("isg run: no input file given");
+  if (a.output.empty() && !a.dry_run) throw isg::io::IoError("isg run: no output given (-o FILE)");
+  auto job = make_job(a, std::move(p));
+  if (isg::run::is_sequence_pattern(a.input) && !fs::exists(a.input)) return run_sequence(a, job);
+  if (!a.frames.empty()) throw isg::io::IoError(a.input + ": --frames needs a frame pattern (#### or %04d) in the input");
+  if (!a.dry_run) {
+    std::error_code ec;
+    if (fs::exists(a.output, ec) && fs::equivalent(a.input, a.output, ec)) {
+      throw isg::io::IoError(a.output + ": is the input file; isg never overwrites its input");
+    }
+  }
+  return run_single(a, job);
 }
 
 // ---- isg info ----
@@ -397,6 +547,11 @@ int main(int argc, char** argv) {
   run->add_option("--preview", ra.preview,
                   "also write a display picture (.png/.jpg) of the composite through the "
                   "OpenColorIO view transform ($OCIO, or the built-in sRGB config)");
+  run->add_option("--frames", ra.frames,
+                  "frame range for a sequence: A-B, A-BxSTEP, or a list (input and -o hold #### or %04d)");
+  run->add_flag("--skip-existing", ra.skip_existing, "sequence: leave frames whose output exists (resume)");
+  run->add_flag("--keep-going", ra.keep_going,
+                "sequence: report a bad frame and go on (exit 3 if any failed)");
   run->add_option("--input-colorspace", ra.input_colorspace,
                   "colour space of a beauty that is not scene-linear (an OpenColorIO name)");
 

@@ -220,6 +220,42 @@ TEST_F(Cli, NoClobberKeepsAnExistingOutput) {
   EXPECT_EQ(s.str(), "precious");
 }
 
+TEST_F(Cli, FrameSequenceResumesAndKeepsGoing) {
+  for (int f = 1001; f <= 1006; ++f) {
+    isg::io::write_exr(dir / ("shot." + std::to_string(f) + ".exr"), isg::test::contract_aovs(24, 16, unsigned(f)), {});
+  }
+  // Frame 1004 is damaged: cut inside its pixel data.
+  auto bad = dir / "shot.1004.exr";
+  fs::resize_file(bad, fs::file_size(bad) * 2 / 3);
+  std::string args = "run " + q(dir / "shot.####.exr") + " -o " + q(dir / "out.%04d.exr") + " --scene " + q(scene);
+  // Without --keep-going the run stops at the bad frame: exit 1, frames before it written.
+  auto r = run_isg(args + " --frames 1001-1006");
+  EXPECT_EQ(r.code, 1) << r.err;
+  EXPECT_NE(r.err.find("frame 1004"), std::string::npos) << r.err;
+  EXPECT_TRUE(fs::exists(dir / "out.1003.exr"));
+  EXPECT_FALSE(fs::exists(dir / "out.1005.exr"));
+  // Resume with --skip-existing --keep-going: 1001-1003 skipped, 1004 reported, the rest written.
+  auto before = fs::last_write_time(dir / "out.1001.exr");
+  r = run_isg(args + " --frames 1001-1006 --skip-existing --keep-going");
+  EXPECT_EQ(r.code, 3) << r.err;
+  EXPECT_NE(r.out.find("2 written, 3 skipped (existing), 1 failed"), std::string::npos) << r.out;
+  EXPECT_EQ(fs::last_write_time(dir / "out.1001.exr"), before);
+  EXPECT_TRUE(fs::exists(dir / "out.1005.exr"));
+  EXPECT_TRUE(fs::exists(dir / "out.1006.exr"));
+  EXPECT_FALSE(fs::exists(dir / "out.1004.exr"));
+  // Each output is the same as a single-frame run of its input.
+  r = run_isg("run " + q(dir / "shot.1006.exr") + " -o " + q(dir / "single.exr") + " --scene " + q(scene));
+  ASSERT_EQ(r.code, 0) << r.err;
+  auto seq = isg::io::read_exr(dir / "out.1006.exr"), one = isg::io::read_exr(dir / "single.exr");
+  for (const auto& c : one.channels) EXPECT_EQ(seq.find(c.name)->data, c.data) << c.name;
+  // Stepped ranges.
+  r = run_isg(args + " --frames 1001-1005x2 --skip-existing");
+  EXPECT_EQ(r.code, 0) << r.err;
+  r = run_isg(args + " --frames 7-3");
+  EXPECT_EQ(r.code, 1);
+  EXPECT_NE(r.err.find("--frames 7-3"), std::string::npos) << r.err;
+}
+
 TEST(CliShared, InfoFindsContractAndCyclesRoles) {
   auto c = isg::test::shared_case("contact");
   if (c.empty()) GTEST_SKIP() << "../shared/cases/contact is absent";

@@ -1,0 +1,56 @@
+// One frame of `isg run`, split into stages so a frame sequence can overlap them:
+// load (read, roles, plan, sanitise) on a reader thread, process on the device, write on a
+// writer thread. The device is set up once per job, not per frame.
+#pragma once
+
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "gpu/gpu.h"
+#include "io/image.h"
+#include "io/roles.h"
+#include "io/scene.h"
+#include "params/params.h"
+#include "plan/plan.h"
+#include "run/run.h"
+
+namespace isg::run {
+
+struct JobConfig {
+  io::Scene scene;
+  std::string scene_path;
+  params::Params params;
+  io::RoleRequest request;
+  io::ReadLimits limits;
+  io::WriteOptions write;
+  std::string input_colorspace;  // empty: the beauty is scene-linear
+  std::string version;
+};
+
+struct LoadedFrame {
+  std::string input;
+  io::Image img;
+  io::Roles roles;
+  plan::Plan plan;
+  std::optional<io::Camera> camera;  // the scene file's, else the EXR header's
+  std::vector<io::NonFinite> nonfinite;
+  double read_ms = 0;
+};
+
+// Header, roles and plan only (for --dry-run and for checks before any pixels are read).
+LoadedFrame plan_frame(const JobConfig& job, const std::string& input);
+// Reads the pixels too; throws IoError on anything wrong with the input.
+LoadedFrame load_frame(const JobConfig& job, const std::string& input);
+// Runs the plan on the device and adds the output channels and provenance to frame.img.
+Stats process_frame(gpu::Context& ctx, const JobConfig& job, LoadedFrame& frame);
+// Atomic write; returns the wall time in ms.
+double write_frame(const JobConfig& job, const LoadedFrame& frame, const std::string& output);
+
+// Frame sequences: "####" (zero-padded to the number of #) or printf-style "%04d" / "%d".
+bool is_sequence_pattern(const std::string& path);
+std::string expand_pattern(const std::string& pattern, int frame);
+// "1001-1100", "1001-1100x4" (every 4th), "1,5,9-12"; throws std::invalid_argument naming it.
+std::vector<int> parse_frames(const std::string& spec);
+
+}  // namespace isg::run
