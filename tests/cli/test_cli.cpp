@@ -3,6 +3,7 @@
 #include <sys/stat.h>
 
 #include <cmath>
+#include <cstring>
 #include <fstream>
 #include <nlohmann/json.hpp>
 #include <sstream>
@@ -92,6 +93,19 @@ TEST_F(Cli, RunWritesEveryChannelPlusProvenance) {
   EXPECT_EQ(b.attributes.get_string("isg:param:shadows.method"), "hard");
   EXPECT_FALSE(b.attributes.get_string("isg:device").empty());
   EXPECT_FALSE(b.attributes.get_string("isg:version").empty());
+}
+
+TEST_F(Cli, RunsAreBitwiseIdentical) {
+  for (const char* o : {"a.exr", "b.exr"}) {
+    auto r = run_isg(std::string("run ") + q(in) + " --scene " + q(scene) + " -o " + q(dir / o));
+    ASSERT_EQ(r.code, 0) << r.err;
+  }
+  auto a = isg::io::read_exr(dir / "a.exr"), b = isg::io::read_exr(dir / "b.exr");
+  ASSERT_EQ(a.channels.size(), b.channels.size());
+  for (const auto& c : a.channels) {
+    ASSERT_TRUE(b.find(c.name)) << c.name;
+    EXPECT_EQ(std::memcmp(c.data.data(), b.find(c.name)->data.data(), c.data.size() * sizeof(float)), 0) << c.name;
+  }
 }
 
 TEST_F(Cli, InfoFindsRolesAndSaysWhatCanRun) {
