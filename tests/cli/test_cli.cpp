@@ -172,6 +172,16 @@ TEST_F(Cli, PrintPresetShowsEveryParameter) {
   EXPECT_NE(r.out.find("[shadows]"), std::string::npos);
 }
 
+TEST(CliDocs, ParametersDocMatchesTheTable) {
+  // docs/parameters.md is generated from the parameter table; regenerate it with
+  //   build/cli/isg params --markdown > docs/parameters.md
+  auto r = run_isg("params --markdown");
+  ASSERT_EQ(r.code, 0) << r.err;
+  std::stringstream doc;
+  doc << std::ifstream(std::string(ISG_SOURCE_DIR) + "/docs/parameters.md").rdbuf();
+  EXPECT_EQ(doc.str(), r.out) << "docs/parameters.md is stale: regenerate it";
+}
+
 TEST_F(Cli, NanAndInfAreSanitisedAndCounted) {
   auto img = isg::test::contract_aovs(24, 16);
   img.find("key.direct.G")->data[5] = NAN;
