@@ -316,8 +316,10 @@ std::optional<Camera> camera_from_header(const Image& img) {
     Mat4 ndc{};
     for (int i = 0; i < 4; ++i)
       for (int j = 0; j < 4; ++j) ndc[i * 4 + j] = n[j * 4 + i];
-    // camera -> NDC; NDC spans [0,1] over the screen (OpenEXR convention), so a unit step in
-    // camera y at depth 1 covers 1/(2 tan(yfov/2)) of the screen height.
+    // camera -> NDC. Writers disagree on the NDC range: OpenEXR/RenderMan use [0,1] with
+    // (0,0) top left, OpenGL-style writers [-1,1] with y up. The optical axis lands on the
+    // screen centre, 0.5 in the first and 0 in the second, which tells them apart; the span of
+    // a unit step in camera y at depth 1 over the screen height then gives the field of view.
     Mat4 proj = mul(ndc, inverse(c.world_to_camera));
     auto ndc_y = [&](double y) {
       double p[4] = {0, y, -1, 1}, r[4] = {0, 0, 0, 0};
@@ -325,7 +327,8 @@ std::optional<Camera> camera_from_header(const Image& img) {
         for (int k = 0; k < 4; ++k) r[i] += proj[i * 4 + k] * p[k];
       return r[1] / r[3];
     };
-    double span = std::abs(ndc_y(1.0) - ndc_y(-1.0));
+    const double screen = std::abs(ndc_y(0.0)) < 0.25 ? 2.0 : 1.0;  // [-1,1] or [0,1]
+    double span = std::abs(ndc_y(1.0) - ndc_y(-1.0)) / screen;
     if (span > 0) c.yfov_deg = 2.0 * std::atan(1.0 / span) * 180.0 / M_PI;
   }
   return c;
