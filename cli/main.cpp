@@ -186,6 +186,22 @@ void print_timings(const isg::gpu::Context& ctx, const isg::run::LoadedFrame& f,
             << st.gpu_wall_ms << " ms, download " << st.download_ms << " ms, write " << write_ms
             << " ms, total " << total_ms << " ms\n";
   std::cout << "GPU memory for the plan: " << f.plan.gpu_bytes() / 1024 << " KiB\n";
+  if (st.refl_skipped_fraction >= 0)
+    std::cout << "reflections: " << st.refl_skipped_fraction * 100.0
+              << "% of tiles had nothing glossy (cheap path)\n";
+  if (st.dof_cheap_fraction >= 0)
+    std::cout << "dof: " << st.dof_cheap_fraction * 100.0 << "% of tiles took the cheap path\n";
+  for (const auto& sh : st.shadows) {
+    std::cout << "shadows[" << sh.light << "]: " << sh.skipped_fraction * 100.0
+              << "% of tiles skipped (no shadow boundary within reach), " << sh.full_pixels
+              << " pixels searched and gathered, " << sh.clamped_pixels
+              << " needed a radius over shadows.max_radius (clamped)\n";
+  }
+  for (const auto& sm : st.shadowmaps) {
+    std::cout << "shadows[" << sm.light << "] (" << sm.method << "): " << sm.skipped_fraction * 100.0
+              << "% of " << sm.pixels << " pixels in the shadow map skipped the filter (fully lit "
+              << "or umbra), " << sm.clamped_pixels << " clamped to shadows.smap_max_radius\n";
+  }
 }
 
 int run_single(const RunArgs& a, isg::run::JobConfig& job) {

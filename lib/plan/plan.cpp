@@ -3,6 +3,9 @@
 #include <algorithm>
 #include <sstream>
 
+#include "effects/shadows/isg.h"
+#include "effects/shadows/shadowmap.h"
+
 namespace isg::plan {
 
 const Resource* Plan::resource(const std::string& name) const {
@@ -23,7 +26,7 @@ std::string Plan::describe() const {
   s << "effects:\n";
   for (const auto& e : effects) {
     s << "  " << e.effect << ": " << (e.runs ? "runs (" + e.method + ")" : "skipped: " + e.why)
-      << "\n";
+      << (e.runs && !e.why.empty() ? "; " + e.why : "") << "\n";
   }
   s << "passes:\n";
   for (const auto& p : passes) {
@@ -73,6 +76,7 @@ std::vector<EffectStatus> capabilities(const io::Roles& roles, const io::Scene& 
     std::string m = missing_of(roles, {"beauty", "refl", "refl.weight", "refl.dist", "normal"});
     if (!roles.has("position") && !roles.has("depth")) m += std::string(m.empty() ? "" : ", ") + "position or depth";
     if (!m.empty()) st.why = "missing " + m;
+    else if (!has_camera) st.why = "no camera (scene file, or worldToCamera/worldToNDC in the header)";
     else st.runs = true;
     out.push_back(st);
   }
@@ -88,7 +92,7 @@ std::vector<EffectStatus> capabilities(const io::Roles& roles, const io::Scene& 
 }
 
 Plan make_plan(const io::Roles& roles, const io::Scene& scene, const params::Params& p,
-               int width, int height) {
+               int width, int height, const io::Camera* camera) {
   Plan plan;
   plan.width = width;
   plan.height = height;
@@ -130,6 +134,36 @@ Plan make_plan(const io::Roles& roles, const io::Scene& scene, const params::Par
       for (const auto& a : absent) st.why += " " + a;
     } else if (light && light->type == io::LightType::point) {
       st.why = "point light: hard shadows are already right";
+    } else if (method == "isg") {
+      // The search and gather need occluder distances, positions, the camera to turn world
+      // radii into pixels, and the light's position and size.
+      const io::Camera* cam = camera ? camera : (scene.camera ? &*scene.camera : nullptr);
+      std::string why = effects::shadows_isg_unsupported(light);
+      if (why.empty() && !roles.has(l + ".occluder")) why = "missing channels for role " + l + ".occluder";
+      if (why.empty() && !roles.has("position") && !roles.has("depth"))
+        why = "missing channels for role position (or depth)";
+      if (why.empty() && !cam) why = "no camera (scene file, or worldToCamera/worldToNDC in the header)";
+      st.runs = true;
+      if (why.empty()) {
+        plan.shadows[l] = effects::shadow_settings(*light, *cam, scene.scene_radius, p, height);
+      } else {
+        // isg is the default: without what it needs the input's hard shadow is kept (method
+        // hard), and the status says why.
+        st.method = "hard";
+        st.why = "isg cannot run: " + why;
+      }
+    } else if (method == "pcss") {
+      // The shadow map and the receivers' positions (P, or Z through the camera); no
+      // L.occluder.
+      const io::Camera* cam = camera ? camera : (scene.camera ? &*scene.camera : nullptr);
+      std::string why = effects::shadowmap_unsupported(light, l);
+      if (why.empty() && !roles.has("position") && !roles.has("depth"))
+        why = "missing channels for role position (or depth)";
+      if (why.empty() && !roles.has("position") && !cam)
+        why = "no camera (scene file, or worldToCamera/worldToNDC in the header) to place Z";
+      st.why = why;
+      st.runs = why.empty();
+      if (st.runs) plan.shadowmaps[l] = effects::shadowmap_settings(*light, cam, p, method, height);
     } else {
       st.runs = true;
     }
@@ -140,8 +174,28 @@ Plan make_plan(const io::Roles& roles, const io::Scene& scene, const params::Par
     need(sh, 1, true);
     need(dir, 3, true);
     need(soft, 1, false);
-    plan.passes.push_back({"shadows." + method, "shadows." + method + "[" + l + "]", {sh},
-                           {soft}, l});
+    if (plan.shadows.count(l)) {
+      const std::string occ = l + ".occluder", geo = roles.has("position") ? "position" : "depth";
+      const std::string tiles = l + ".shadow.tiles";
+      need(occ, 1, true);
+      need(geo, geo == "position" ? 3 : 1, true);
+      plan.resources.push_back({tiles, 1, false,
+                                uint64_t(effects::shadows_isg_tiles_words(uint32_t(width),
+                                                                          uint32_t(height))) * 4});
+      plan.passes.push_back({"shadows.isg", "shadows.isg[" + l + "]", {sh, occ, geo, "fg"},
+                             {soft, tiles}, l});
+    } else if (plan.shadowmaps.count(l)) {
+      // The map is read from its own EXR by the run, not from the input image.
+      const std::string geo = roles.has("position") ? "position" : "depth", smap = l + ".shadowmap";
+      need(geo, geo == "position" ? 3 : 1, true);
+      const auto& sm = light->shadowmap.value();
+      plan.resources.push_back({smap, 1, false, uint64_t(sm.width) * uint64_t(sm.height) * 4});
+      plan.passes.push_back({"shadows." + method, "shadows." + method + "[" + l + "]",
+                             {sh, geo, "fg", smap}, {soft}, l});
+    } else {
+      plan.passes.push_back({"shadows." + st.method, "shadows." + st.method + "[" + l + "]", {sh},
+                             {soft}, l});
+    }
     plan.passes.push_back({"composite_term", "composite[" + l + "]",
                            {"composite", dir, soft, sh, "fg"}, {"composite"}, l});
   }
@@ -152,13 +206,69 @@ Plan make_plan(const io::Roles& roles, const io::Scene& scene, const params::Par
   // Reflections and depth of field: slots for their issues.
   {
     EffectStatus st{"reflections", false, p.choice("reflections.method"), ""};
+    const io::Camera* cam = camera ? camera : (scene.camera ? &*scene.camera : nullptr);
+    std::string absent = missing_of(roles, {"refl", "refl.dist", "refl.weight", "normal"});
+    if (!roles.has("position") && !roles.has("depth"))
+      absent += std::string(absent.empty() ? "" : " ") + "position (or depth)";
     if (st.method == "none") st.why = "reflections.method = none";
+    else if (!absent.empty()) st.why = "missing channels for role " + absent;
+    else if (!cam) st.why = "no camera (scene file, or worldToCamera/worldToNDC in the header)";
+    else st.runs = true;
     plan.effects.push_back(st);
+    if (st.runs) {
+      // Pass reflections.isg (both methods: isg and the naive blur), then the composite term
+      // refl.weight·(refl.glossy − refl).
+      plan.refl = effects::refl_settings(*cam, scene.scene_radius, p, height);
+      need("refl", 3, true);
+      need("refl.dist", 1, true);
+      need("refl.weight", 3, true);
+      need("normal", 3, true);
+      const std::string geo = roles.has("position") ? "position" : "depth";
+      need(geo, geo == "position" ? 3 : 1, true);
+      std::vector<std::string> reads = {"refl", "refl.dist", "refl.weight", "normal", geo, "fg"};
+      if (roles.has("roughness") && !plan.refl->roughness_override) {
+        need("roughness", 1, true);
+        reads.push_back("roughness");
+      }
+      need("refl.glossy", 3, false);
+      const uint64_t tiles = uint64_t((width + 15) / 16) * uint64_t((height + 15) / 16);
+      plan.resources.push_back({"refl.tiles", 1, false, tiles * sizeof(float)});
+      plan.passes.push_back({"reflections.isg", "reflections." + st.method, reads,
+                             {"refl.glossy", "refl.tiles"}, ""});
+      plan.passes.push_back({"composite_term", "composite[reflections]",
+                             {"composite", "refl.weight", "refl.glossy", "refl", "fg"},
+                             {"composite"}, ""});
+    }
   }
   {
+    // Depth of field runs last, on the finished composite (AOV_CONTRACT.md "Output").
     EffectStatus st{"dof", false, p.choice("dof.method"), ""};
+    const io::Camera* cam = camera ? camera : (scene.camera ? &*scene.camera : nullptr);
     if (st.method == "none") st.why = "dof.method = none";
+    else if (!roles.has("depth")) st.why = "missing channels for role depth";
+    else if (!cam) st.why = "no camera (scene file, or worldToCamera/worldToNDC in the header)";
+    else st.runs = true;
     plan.effects.push_back(st);
+    if (st.runs) {
+      io::Camera c = *cam;
+      c.width = width;  // CoC in pixels of the image being filtered
+      plan.dof = effects::dof_settings(c, scene.units, p);
+      need("dof.coc", 1, false);
+      need("dof.input", 4, false);
+      const uint64_t tiles = uint64_t((width + 15) / 16) * uint64_t((height + 15) / 16);
+      plan.resources.push_back({"dof.tiles", 1, false, tiles * 4 * sizeof(float)});
+      plan.passes.push_back({"dof.coc", "dof.coc", {"composite", "depth"}, {"dof.coc", "dof.input"}, ""});
+      plan.passes.push_back({"dof.tiles", "dof.tiles", {"dof.coc"}, {"dof.tiles"}, ""});
+      if (st.method == "isg") {
+        need("dof.radius", 1, false);
+        plan.passes.push_back({"dof.search", "dof.search", {"dof.coc", "dof.tiles"}, {"dof.radius"}, ""});
+        plan.passes.push_back({"dof.gather", "dof.gather",
+                               {"dof.input", "dof.coc", "dof.tiles", "dof.radius"}, {"composite"}, ""});
+      } else {
+        plan.passes.push_back({"dof.layered", "dof.layered", {"dof.input", "dof.coc", "dof.tiles"},
+                               {"composite"}, ""});
+      }
+    }
   }
   return plan;
 }

@@ -3,9 +3,15 @@
 #pragma once
 
 #include <cstdint>
+#include <map>
+#include <optional>
 #include <string>
 #include <vector>
 
+#include "effects/dof/settings.h"
+#include "effects/reflections/settings.h"
+#include "effects/shadows/settings.h"
+#include "effects/shadows/shadowmap.h"
 #include "io/roles.h"
 #include "io/scene.h"
 #include "params/params.h"
@@ -40,6 +46,11 @@ struct Plan {
   std::vector<EffectStatus> effects;
   std::vector<std::string> soft_lights;  // lights whose soft shadows are computed
   std::vector<std::string> missing;      // required roles absent: the run cannot go on
+  std::optional<effects::DofSettings> dof;  // set when depth of field runs
+  std::optional<effects::ReflSettings> refl;  // set when glossy reflections run
+  std::map<std::string, effects::ShadowSettings> shadows;  // per light, where shadows.isg runs
+  // Per light, where a shadow-map method (shadows.method = pcss) runs.
+  std::map<std::string, effects::ShadowmapSettings> shadowmaps;
 
   const Resource* resource(const std::string& name) const;
   uint64_t gpu_bytes() const;
@@ -51,7 +62,8 @@ struct Plan {
 std::vector<EffectStatus> capabilities(const io::Roles& roles, const io::Scene& scene,
                                        bool has_camera);
 
+// `camera`: the scene file's, else the EXR header's (null: the scene file's, if any).
 Plan make_plan(const io::Roles& roles, const io::Scene& scene, const params::Params& p,
-               int width, int height);
+               int width, int height, const io::Camera* camera = nullptr);
 
 }  // namespace isg::plan

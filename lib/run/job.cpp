@@ -26,7 +26,8 @@ LoadedFrame plan_frame(const JobConfig& job, const std::string& input) {
   }
   f.camera = job.scene.camera;
   if (!f.camera) f.camera = io::camera_from_header(header);
-  f.plan = plan::make_plan(f.roles, job.scene, job.params, header.width, header.height);
+  f.plan = plan::make_plan(f.roles, job.scene, job.params, header.width, header.height,
+                           f.camera ? &*f.camera : nullptr);
   f.img = std::move(header);
   return f;
 }

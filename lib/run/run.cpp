@@ -5,7 +5,11 @@
 #include <memory>
 
 #include "effects/composite/composite.h"
+#include "effects/dof/dof.h"
+#include "effects/reflections/reflections.h"
 #include "effects/shadows/hard.h"
+#include "effects/shadows/isg.h"
+#include "effects/shadows/shadowmap.h"
 
 namespace isg::run {
 
@@ -50,7 +54,11 @@ Stats execute(gpu::Context& ctx, const plan::Plan& plan, const io::Roles& roles,
   t0 = Clock::now();
   std::unique_ptr<effects::ForegroundPass> foreground;
   std::unique_ptr<effects::ShadowsHardPass> hard;
+  std::unique_ptr<effects::ShadowsIsgPass> soft_isg;
+  std::map<std::string, std::unique_ptr<effects::ShadowmapPass>> smap_pass;  // per light
   std::unique_ptr<effects::CompositeTermPass> term;
+  std::unique_ptr<effects::DofPass> dof;
+  std::unique_ptr<effects::ReflectionsPass> refl;
   gpu::Sequence seq(ctx);
   const io::RoleBinding* beauty = roles.get("beauty");
   for (const auto& p : plan.passes) {
@@ -62,11 +70,56 @@ Stats execute(gpu::Context& ctx, const plan::Plan& plan, const io::Roles& roles,
     } else if (p.name == "shadows.hard") {
       if (!hard) hard = std::make_unique<effects::ShadowsHardPass>(ctx);
       hard->record(seq, buf.at(p.reads.at(0)), buf.at(p.writes.at(0)), w, h, p.label);
+    } else if (p.name == "shadows.isg") {
+      if (!soft_isg) soft_isg = std::make_unique<effects::ShadowsIsgPass>(ctx);
+      soft_isg->record(seq, plan.shadows.at(p.light), buf.at(p.reads.at(0)), buf.at(p.reads.at(1)),
+                       buf.at(p.reads.at(2)), p.reads.at(2) == "position", buf.at("fg"),
+                       buf.at(p.writes.at(1)), buf.at(p.writes.at(0)), w, h, p.label);
+    } else if (plan.shadowmaps.count(p.light) && p.name == "shadows." + plan.shadowmaps.at(p.light).method) {
+      // The light's shadow map: read on the host from its own EXR, uploaded into the plan's
+      // L.shadowmap; reads = {L.shadow, position|depth, fg, L.shadowmap}.
+      const auto& s = plan.shadowmaps.at(p.light);
+      const auto map = effects::load_shadowmap(s.file);
+      gpu::Buffer& mb = buf.at(p.reads.at(3));
+      if (uint64_t(map.z.size()) * 4 != mb.size())
+        throw io::IoError(s.file.string() + ": shadow map is " + std::to_string(map.width) + "x" +
+                          std::to_string(map.height) + ", not the scene file's size");
+      mb.upload(std::span<const float>(map.z));
+      auto& pass = smap_pass[p.light];
+      pass = std::make_unique<effects::ShadowmapPass>(ctx, s, map, w, h, p.reads.at(1) == "position");
+      pass->record(seq, buf.at(p.reads.at(1)), buf.at(p.reads.at(2)), buf.at(p.reads.at(0)), mb,
+                   buf.at(p.writes.at(0)), p.label);
     } else if (p.name == "composite_term") {
       if (!term) term = std::make_unique<effects::CompositeTermPass>(ctx);
       const auto& X = buf.at(p.reads.at(2));
       term->record(seq, buf.at("composite"), buf.at(p.reads.at(1)), X, buf.at(p.reads.at(3)),
                    uint32_t(X.size() / (n * sizeof(float))), buf.at("fg"), w, h, p.label);
+    } else if (p.name == "reflections.isg") {
+      if (!refl) refl = std::make_unique<effects::ReflectionsPass>(ctx, plan.refl.value());
+      const bool has_p = buf.count("position") != 0;
+      auto rough = buf.find("roughness");
+      refl->record(seq, buf.at("refl"), buf.at("refl.dist"), buf.at("refl.weight"),
+                   buf.at("normal"), buf.at(has_p ? "position" : "depth"), has_p,
+                   rough == buf.end() ? nullptr : &rough->second, buf.at("fg"),
+                   buf.at("refl.glossy"), buf.at("refl.tiles"), w, h, p.label);
+    } else if (p.name.starts_with("dof.")) {
+      if (!dof) dof = std::make_unique<effects::DofPass>(ctx, plan.dof.value());
+      if (p.name == "dof.coc") {
+        dof->record_coc(seq, buf.at("composite"), beauty->components() == 4, buf.at("depth"),
+                        buf.at("dof.coc"), buf.at("dof.input"), w, h);
+      } else if (p.name == "dof.tiles") {
+        dof->record_tiles(seq, buf.at("dof.coc"), buf.at("dof.tiles"), w, h);
+      } else if (p.name == "dof.search") {
+        dof->record_search(seq, buf.at("dof.coc"), buf.at("dof.tiles"), buf.at("dof.radius"), w, h);
+      } else if (p.name == "dof.gather") {
+        dof->record_gather(seq, buf.at("dof.input"), buf.at("dof.coc"), buf.at("dof.tiles"),
+                           buf.at("dof.radius"), buf.at("composite"), w, h);
+      } else if (p.name == "dof.layered") {
+        dof->record_layered(seq, buf.at("dof.input"), buf.at("dof.coc"), buf.at("dof.tiles"),
+                            buf.at("composite"), w, h);
+      } else {
+        throw std::logic_error("planner produced unknown pass " + p.name);
+      }
     } else {
       throw std::logic_error("planner produced unknown pass " + p.name);
     }
@@ -94,6 +147,27 @@ Stats execute(gpu::Context& ctx, const plan::Plan& plan, const io::Roles& roles,
   for (const auto& l : plan.soft_lights) {
     const std::string soft = l + ".softshadow";
     img.set(soft, buf.at(soft).download_as<float>(n), io::Storage::f32);
+    if (smap_pass.count(l)) {
+      auto t = smap_pass.at(l)->stats();
+      st.shadowmaps.push_back({l, plan.shadowmaps.at(l).method, t.skipped_fraction(), t.pixels, t.clamped});
+    }
+    if (plan.shadows.count(l)) {
+      auto t = effects::ShadowsIsgPass::stats(buf.at(l + ".shadow.tiles"), w, h);
+      st.shadows.push_back({l, t.skipped_fraction, t.clamped_pixels, t.full_pixels});
+    }
+  }
+  if (plan.refl) {
+    auto g = buf.at("refl.glossy").download_as<float>(3 * n);
+    const char* rgb[3] = {"refl.glossy.R", "refl.glossy.G", "refl.glossy.B"};
+    for (size_t c = 0; c < 3; ++c)
+      img.set(rgb[c], std::vector<float>(g.begin() + c * n, g.begin() + (c + 1) * n),
+              io::Storage::f32);
+    st.refl_skipped_fraction =
+        effects::ReflectionsPass::skipped_fraction(buf.at("refl.tiles"), w, h);
+  }
+  if (plan.dof) {
+    img.set("dof.coc", buf.at("dof.coc").download_as<float>(n), io::Storage::f32);
+    st.dof_cheap_fraction = effects::DofPass::cheap_fraction(buf.at("dof.tiles"), w, h);
   }
   st.download_ms = ms_since(t0);
   return st;

@@ -2,6 +2,7 @@
 // sequence, reads back the products and writes the contract's output channels into the image.
 #pragma once
 
+#include <cstdint>
 #include <string>
 #include <vector>
 
@@ -15,6 +16,24 @@ namespace isg::run {
 struct Stats {
   std::vector<gpu::PassTime> passes;  // GPU time per pass (timestamp queries)
   double upload_ms = 0, record_ms = 0, gpu_wall_ms = 0, download_ms = 0;
+  double dof_cheap_fraction = -1;  // tiles that took dof's cheap path (-1: dof did not run)
+  double refl_skipped_fraction = -1;  // tiles with nothing glossy (-1: reflections did not run)
+  // Per light where shadows.isg ran: tiles that kept L.shadow (fully lit or umbra), and pixels
+  // whose search or gather radius exceeded shadows.max_radius (clamped).
+  struct ShadowTiles {
+    std::string light;
+    double skipped_fraction = 0;
+    uint64_t clamped_pixels = 0, full_pixels = 0;
+  };
+  std::vector<ShadowTiles> shadows;
+  // Per light where a shadow-map method ran: of the foreground pixels inside the map, those
+  // proven fully lit or in umbra (filter skipped) and those whose kernel was clamped.
+  struct ShadowmapSkip {
+    std::string light, method;
+    double skipped_fraction = 0;
+    uint64_t pixels = 0, clamped_pixels = 0;
+  };
+  std::vector<ShadowmapSkip> shadowmaps;
   double gpu_ms() const;
 };
 

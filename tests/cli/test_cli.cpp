@@ -9,6 +9,7 @@
 #include <sstream>
 
 #include "io/image.h"
+#include "io/scene.h"
 #include "support/images.h"
 
 namespace fs = std::filesystem;
@@ -74,7 +75,9 @@ class Cli : public ::testing::Test {
 }  // namespace
 
 TEST_F(Cli, RunWritesEveryChannelPlusProvenance) {
-  auto r = run_isg(std::string("run ") + q(in) + " --scene " + q(scene) + " -o " + q(out) + " --timings");
+  // Method `hard` has a closed form (soft == hard, composite == beauty); the default is `isg`.
+  auto r = run_isg(std::string("run ") + q(in) + " --scene " + q(scene) + " -o " + q(out) +
+                   " --timings --set shadows.method=hard");
   ASSERT_EQ(r.code, 0) << r.err;
   EXPECT_NE(r.out.find("wrote " + out.string()), std::string::npos) << r.out;
   EXPECT_NE(r.out.find("composite[key]"), std::string::npos) << r.out;  // per-pass GPU time
@@ -303,4 +306,23 @@ TEST(CliShared, RunOnTheContactCase) {
   auto out = isg::io::read_exr(dir / "o.exr");
   EXPECT_GE(out.channels.size(), in.channels.size() + 5);  // + input.RGBA, key.softshadow
   EXPECT_EQ(out.attributes.get_string("isg:case"), "contact");  // input attributes kept
+}
+
+// isg-synth writes worldToNDC in the OpenGL convention ([-1,1], y up); Blender-free pipelines
+// may write OpenEXR's [0,1]. Either way the camera read from the header must project like the
+// scene file's camera.
+TEST(CliSynth, CameraFromTheSynthHeaderMatchesItsSceneFile) {
+  auto dir = isg::test::temp_dir("synth_camera");
+  std::string cmd = std::string(ISG_SYNTH_BINARY) + " contact --out " + q(dir) +
+                    " --width 64 --height 36 --no-refs --threads 2 >/dev/null 2>&1";
+  ASSERT_EQ(std::system(cmd.c_str()), 0) << cmd;
+  auto from_header = isg::io::camera_from_header(isg::io::read_exr(dir / "aovs.exr"));
+  auto scene = isg::io::read_scene(dir / "scene.json");
+  ASSERT_TRUE(from_header);
+  ASSERT_TRUE(scene.camera);
+  EXPECT_NEAR(from_header->yfov_deg, scene.camera->yfov_deg, 1e-3);
+  for (isg::io::Vec3 p : {isg::io::Vec3{0, 0, 0}, isg::io::Vec3{0.5, 0.2, -0.3}, isg::io::Vec3{-1, 0.1, 0.7}}) {
+    auto a = from_header->project(p), b = scene.camera->project(p);
+    for (int i = 0; i < 3; ++i) EXPECT_NEAR(a[i], b[i], 1e-3) << i;
+  }
 }

@@ -1,0 +1,349 @@
+#include "effects/reflections/reflections.h"
+
+#include <algorithm>
+#include <cmath>
+#include <numbers>
+
+#include "isg/shaders/reflections_isg.spv.h"
+#include "reflections_isg_io.h"
+
+namespace isg::effects {
+
+namespace {
+constexpr double kPi = std::numbers::pi;
+using V2 = std::array<double, 2>;
+using V3 = std::array<double, 3>;
+
+V3 sub(V3 a, V3 b) { return {a[0] - b[0], a[1] - b[1], a[2] - b[2]}; }
+double dot3(V3 a, V3 b) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; }
+double len3(V3 a) { return std::sqrt(dot3(a, a)); }
+double len2(V2 a) { return std::hypot(a[0], a[1]); }
+double smoothstep(double e0, double e1, double x) {
+  double t = std::clamp((x - e0) / (e1 - e0), 0.0, 1.0);
+  return t * t * (3.0 - 2.0 * t);
+}
+
+int grid_of(long long samples) { return std::max(1, int(std::lround(std::sqrt(double(samples))))); }
+
+uint32_t pixel_hash(uint32_t x, uint32_t y) {
+  uint32_t h = (x * 0x8da6b343u) ^ (y * 0xd8163841u);
+  h ^= h >> 16;
+  h *= 0x7feb352du;
+  h ^= h >> 15;
+  h *= 0x846ca68bu;
+  h ^= h >> 16;
+  return h;
+}
+
+V2 concentric(int k, int grid) {
+  double a = 2.0 * (double(k % grid) + 0.5) / grid - 1.0;
+  double b = 2.0 * (double(k / grid) + 0.5) / grid - 1.0;
+  if (a == 0.0 && b == 0.0) return {0, 0};
+  double r, phi;
+  if (std::abs(a) > std::abs(b)) {
+    r = a;
+    phi = (kPi / 4.0) * (b / a);
+  } else {
+    r = b;
+    phi = kPi / 2.0 - (kPi / 4.0) * (a / b);
+  }
+  return {r * std::cos(phi), r * std::sin(phi)};
+}
+
+struct Ctx {
+  const ReflInputs& in;
+  const ReflSettings& s;
+  size_t n;
+  V3 rgb(const std::vector<float>& v, size_t i) const { return {v[i], v[n + i], v[2 * n + i]}; }
+  double rough(size_t i) const {
+    return in.roughness.empty() || s.roughness_override ? s.roughness : double(in.roughness[i]);
+  }
+  bool has_refl(size_t i) const {
+    V3 w = rgb(in.weight, i);
+    return in.fg[i] != 0.0f && std::max({w[0], w[1], w[2]}) > 0.0;
+  }
+  bool glossy(size_t i) const { return has_refl(i) && rough(i) > REFL_MIN_ROUGHNESS; }
+  V3 cam(V3 w) const {  // world -> camera rotation applied to w − eye
+    V3 d = sub(w, s.eye);
+    const auto& r = s.rot;
+    return {r[0] * d[0] + r[1] * d[1] + r[2] * d[2], r[3] * d[0] + r[4] * d[1] + r[5] * d[2],
+            r[6] * d[0] + r[7] * d[1] + r[8] * d[2]};
+  }
+  V3 position(size_t i) const {
+    if (!in.position.empty()) return rgb(in.position, i);
+    double z = in.depth[i];
+    double x = double(i % size_t(in.w)) + 0.5, y = double(i / size_t(in.w)) + 0.5;
+    V3 c = {(x - 0.5 * in.w) / s.f_px * z, -(y - 0.5 * in.h) / s.f_px * z, -z};
+    const auto& r = s.rot;  // R^T c + eye
+    return {r[0] * c[0] + r[3] * c[1] + r[6] * c[2] + s.eye[0],
+            r[1] * c[0] + r[4] * c[1] + r[7] * c[2] + s.eye[1],
+            r[2] * c[0] + r[5] * c[1] + r[8] * c[2] + s.eye[2]};
+  }
+  V3 normal(size_t i) const {
+    V3 v = rgb(in.normal, i);
+    double l = len3(v);
+    return l > 0 ? V3{v[0] / l, v[1] / l, v[2] / l} : V3{0, 0, 1};
+  }
+  V2 project(V3 w) const {
+    V3 c = cam(w);
+    double z = std::max(-c[2], 1e-6);
+    return {0.5 * in.w + s.f_px * c[0] / z, 0.5 * in.h - s.f_px * c[1] / z};
+  }
+  void taps(V2 q, size_t t[4], double bw[4]) const {
+    double x = q[0] - 0.5, y = q[1] - 0.5;
+    double x0 = std::floor(x), y0 = std::floor(y), fx = x - x0, fy = y - y0;
+    int xa = std::clamp(int(x0), 0, in.w - 1), xb = std::clamp(int(x0) + 1, 0, in.w - 1);
+    int ya = std::clamp(int(y0), 0, in.h - 1), yb = std::clamp(int(y0) + 1, 0, in.h - 1);
+    t[0] = size_t(ya) * in.w + xa;
+    t[1] = size_t(ya) * in.w + xb;
+    t[2] = size_t(yb) * in.w + xa;
+    t[3] = size_t(yb) * in.w + xb;
+    bw[0] = (1 - fx) * (1 - fy);
+    bw[1] = fx * (1 - fy);
+    bw[2] = (1 - fx) * fy;
+    bw[3] = fx * fy;
+  }
+  // Eq. 10-12.
+  double range(size_t j, V3 P0, V3 N0) const {
+    double l = len3(sub(position(j), P0)) / s.scene_radius;
+    double nn = 1.0 - dot3(normal(j), N0);
+    return std::exp(-(s.a * l * l + s.b * nn * nn) / s.sigma);
+  }
+  double angle(int x, int y) const {
+    return double(pixel_hash(uint32_t(x), uint32_t(y))) * (2.0 * kPi / 4294967296.0);
+  }
+
+  V3 blur(int x, int y, size_t i) const {
+    V2 p0 = {x + 0.5, y + 0.5};
+    double ang = angle(x, y), ca = std::cos(ang), sa = std::sin(ang);
+    V3 sum = rgb(in.refl, i);
+    double ws = 1.0;
+    for (int k = 0; k < s.grid_gather * s.grid_gather; ++k) {
+      V2 c = concentric(k, s.grid_gather);
+      V2 q = {p0[0] + s.blur_radius * (ca * c[0] - sa * c[1]),
+              p0[1] + s.blur_radius * (sa * c[0] + ca * c[1])};
+      size_t t[4];
+      double bw[4];
+      taps(q, t, bw);
+      for (int j = 0; j < 4; ++j) {
+        double w = has_refl(t[j]) ? bw[j] : 0.0;
+        V3 r = rgb(in.refl, t[j]);
+        for (int c3 = 0; c3 < 3; ++c3) sum[c3] += w * r[c3];
+        ws += w;
+      }
+    }
+    return {sum[0] / ws, sum[1] / ws, sum[2] / ws};
+  }
+
+  V3 isg(int x, int y, size_t i) const {
+    V2 p0 = {x + 0.5, y + 0.5};
+    V3 P0 = position(i), N0 = normal(i);
+    V3 V = sub(s.eye, P0);
+    double e = std::max(len3(V), 1e-6);
+    double cos_i = std::clamp(dot3(N0, V) / e, REFL_MIN_COS, 1.0);
+    double alpha = rough(i) * rough(i);
+    double theta_max = std::min(2.0 * std::atan(ggx_cone_tan(alpha, s.energy)), REFL_MAX_THETA);
+    double R_full = s.f_px * std::tan(theta_max);  // eq. 13 as E → ∞
+    double R_p = std::min(R_full, s.max_radius);
+    V2 d_maj = {1, 0};
+    if (s.anisotropic) {
+      V2 a = project(P0), b = project({P0[0] + N0[0] * 0.01 * e, P0[1] + N0[1] * 0.01 * e,
+                                       P0[2] + N0[2] * 0.01 * e});
+      V2 d = {b[0] - a[0], b[1] - a[1]};
+      double l = len2(d);
+      if (l > 1e-6) d_maj = {d[0] / l, d[1] / l};
+    }
+    V2 d_min = {-d_maj[1], d_maj[0]};
+    double maj = s.anisotropic ? 1.0 : cos_i, minor = cos_i;
+    double ang = angle(x, y), ca = std::cos(ang), sa = std::sin(ang);
+    auto offset = [&](int k, int grid, double R, V2& u) {
+      V2 c = concentric(k, grid);
+      u = {ca * c[0] - sa * c[1], sa * c[0] + ca * c[1]};
+      return V2{p0[0] + R * (u[0] * maj * d_maj[0] + u[1] * minor * d_min[0]),
+                p0[1] + R * (u[0] * maj * d_maj[1] + u[1] * minor * d_min[1])};
+    };
+
+    // Parameter search (eq. 4, 10-12) over t = E / (e + E); misses are t = 1 (eq. 13's limit).
+    double d0 = in.dist[i];
+    double st = d0 > 0 ? d0 / (e + d0) : 1.0, sw = 1.0;
+    if (d0 <= 0 && !s.search_misses) st = sw = 0.0;
+    for (int k = 0; k < s.grid_search * s.grid_search; ++k) {
+      V2 u;
+      V2 q = offset(k, s.grid_search, R_p, u);
+      size_t t[4];
+      double bw[4];
+      taps(q, t, bw);
+      for (int j = 0; j < 4; ++j) {
+        if (!has_refl(t[j])) continue;
+        double dj = in.dist[t[j]];
+        if (dj <= 0 && !s.search_misses) continue;
+        double tj = dj > 0 ? dj / (e + dj) : 1.0;
+        double w = bw[j] * range(t[j], P0, N0);
+        if (s.search_reach) w *= std::clamp(tj * R_full - len2(u) * R_p + 0.5, 0.0, 1.0);
+        st += w * tj;
+        sw += w;
+      }
+    }
+    double t_bar = sw > 1e-6 ? st / sw : 1.0;
+    // Eq. 13 per reflected direction: a deviation θ lands k·tan θ pixels away.
+    const double k_px = t_bar * s.f_px;
+    const double th_max = 0.5 * std::min(theta_max, std::atan(s.max_radius / std::max(k_px, 1e-6)));
+    const double R_s = k_px * std::tan(2.0 * th_max);
+    // Masking-shadowing loss: albedo 1 / (1 + 2·Λ(θ_i)) = 1 / sqrt(1 + α² tan²θ_i).
+    const double tan2 = (1.0 - cos_i * cos_i) / (cos_i * cos_i);
+    const double albedo = s.masking ? 1.0 / std::sqrt(1.0 + alpha * alpha * tan2) : 1.0;
+    V3 c0 = rgb(in.refl, i);
+    if (R_s < 0.25) return {albedo * c0[0], albedo * c0[1], albedo * c0[2]};
+
+    // Samples are reflected directions placed by the lobe (NDF CDF in θ_h); weight 1/cos θ_h.
+    const double tm2 = std::tan(th_max) * std::tan(th_max);
+    const double xi_max = tm2 / (alpha * alpha + tm2);
+    V3 sum = c0;
+    double ws = 1.0;
+    for (int k = 0; k < s.grid_gather * s.grid_gather; ++k) {
+      V2 c = concentric(k, s.grid_gather);
+      const double rho_u = len2(c), xi = xi_max * rho_u * rho_u;
+      const double th = std::atan(alpha * std::sqrt(xi / (1.0 - xi)));
+      const double f = rho_u > 0 ? k_px * std::tan(2.0 * th) / rho_u : 0.0;
+      V2 u = {f * (ca * c[0] - sa * c[1]), f * (sa * c[0] + ca * c[1])};
+      V2 q = {p0[0] + (u[0] * maj * d_maj[0] + u[1] * minor * d_min[0]),
+              p0[1] + (u[0] * maj * d_maj[1] + u[1] * minor * d_min[1])};
+      const double wd = 1.0 / std::cos(th);
+      size_t t[4];
+      double bw[4];
+      taps(q, t, bw);
+      for (int j = 0; j < 4; ++j) {
+        if (!has_refl(t[j])) continue;
+        double w = wd * bw[j] * range(t[j], P0, N0);
+        V3 r = rgb(in.refl, t[j]);
+        for (int c3 = 0; c3 < 3; ++c3) sum[c3] += w * r[c3];
+        ws += w;
+      }
+    }
+    double m = smoothstep(0.25, 0.75, R_s);
+    V3 out;
+    for (int c3 = 0; c3 < 3; ++c3) out[c3] = albedo * (c0[c3] + (sum[c3] / ws - c0[c3]) * m);
+    return out;
+  }
+};
+}  // namespace
+
+double ggx_cone_tan(double alpha, double energy) {
+  return alpha * std::sqrt(energy / (1.0 - energy));
+}
+
+ReflSettings refl_settings(const io::Camera& cam, double scene_radius, const params::Params& p,
+                           int height) {
+  ReflSettings s;
+  s.method = p.choice("reflections.method");
+  s.grid_search = grid_of(p.integer("reflections.search_samples"));
+  s.grid_gather = grid_of(p.integer("reflections.gather_samples"));
+  s.roughness = p.number("reflections.roughness");
+  s.roughness_override = p.flag("reflections.roughness_override");
+  s.energy = p.number("reflections.energy");
+  s.a = p.number("reflections.a");
+  s.b = p.number("reflections.b");
+  s.sigma = p.number("reflections.sigma");
+  s.scene_radius = scene_radius > 0 ? scene_radius : 1.0;
+  s.max_radius = p.number("reflections.max_radius");
+  s.blur_radius = p.number("reflections.blur_radius");
+  s.search_reach = p.flag("reflections.search_reach");
+  s.search_misses = p.flag("reflections.search_misses");
+  s.anisotropic = p.flag("reflections.anisotropic");
+  s.masking = p.flag("reflections.masking");
+  s.f_px = 0.5 * height / std::tan(cam.yfov_deg * kPi / 360.0);
+  const io::Mat4 inv = io::inverse(cam.world_to_camera);
+  s.eye = {inv[3], inv[7], inv[11]};
+  const auto& m = cam.world_to_camera;
+  s.rot = {m[0], m[1], m[2], m[4], m[5], m[6], m[8], m[9], m[10]};
+  return s;
+}
+
+uint32_t refl_tiles(uint32_t w, uint32_t h) {
+  return ((w + REFL_TILE - 1) / REFL_TILE) * ((h + REFL_TILE - 1) / REFL_TILE);
+}
+
+std::vector<float> reflections_reference(const ReflInputs& in, const ReflSettings& s,
+                                         std::vector<float>* tiles) {
+  const size_t n = size_t(in.w) * in.h;
+  Ctx c{in, s, n};
+  std::vector<float> out(in.refl.begin(), in.refl.begin() + 3 * n);
+  const int tx = (in.w + REFL_TILE - 1) / REFL_TILE, ty = (in.h + REFL_TILE - 1) / REFL_TILE;
+  if (tiles) tiles->assign(size_t(tx) * ty, 0.0f);
+  for (int by = 0; by < ty; ++by) {
+    for (int bx = 0; bx < tx; ++bx) {
+      bool any = false;
+      for (int y = by * REFL_TILE; y < std::min(in.h, (by + 1) * REFL_TILE); ++y)
+        for (int x = bx * REFL_TILE; x < std::min(in.w, (bx + 1) * REFL_TILE); ++x)
+          any = any || c.glossy(size_t(y) * in.w + x);
+      if (tiles) (*tiles)[size_t(by) * tx + bx] = any ? 0.0f : 1.0f;
+      if (!any) continue;  // the cheap path: refl.glossy = refl
+      for (int y = by * REFL_TILE; y < std::min(in.h, (by + 1) * REFL_TILE); ++y) {
+        for (int x = bx * REFL_TILE; x < std::min(in.w, (bx + 1) * REFL_TILE); ++x) {
+          const size_t i = size_t(y) * in.w + x;
+          if (!c.glossy(i)) continue;
+          V3 v = s.method == "blur" ? c.blur(x, y, i) : c.isg(x, y, i);
+          for (int k = 0; k < 3; ++k) out[k * n + i] = float(v[k]);
+        }
+      }
+    }
+  }
+  return out;
+}
+
+ReflectionsPass::ReflectionsPass(gpu::Context& ctx, const ReflSettings& s)
+    : s_(s),
+      kernel_(ctx, "reflections.isg", isg_spv_reflections_isg,
+              std::vector<gpu::Slot>(9, gpu::Slot::buffer), sizeof(shaders::ReflIsgPush), REFL_TILE,
+              REFL_TILE) {}
+
+void ReflectionsPass::record(gpu::Sequence& seq, const gpu::Buffer& refl, const gpu::Buffer& dist,
+                             const gpu::Buffer& weight, const gpu::Buffer& normal,
+                             const gpu::Buffer& geo, bool has_position, const gpu::Buffer* rough,
+                             const gpu::Buffer& fg, const gpu::Buffer& glossy,
+                             const gpu::Buffer& tiles, uint32_t w, uint32_t h,
+                             const std::string& label) {
+  shaders::ReflIsgPush pc{};
+  pc.width = w;
+  pc.height = h;
+  pc.grid_search = uint32_t(s_.grid_search);
+  pc.grid_gather = uint32_t(s_.grid_gather);
+  pc.has_position = has_position ? 1u : 0u;
+  pc.has_roughness = rough && !s_.roughness_override ? 1u : 0u;
+  pc.mode = s_.method == "blur" ? REFL_MODE_BLUR : REFL_MODE_ISG;
+  pc.flags = (s_.search_reach ? 1u : 0u) | (s_.anisotropic ? 4u : 0u) |
+             (s_.search_misses ? 8u : 0u) | (s_.masking ? 16u : 0u);
+  pc.roughness = float(s_.roughness);
+  pc.tan_h_factor = float(ggx_cone_tan(1.0, s_.energy));
+  pc.max_radius = float(s_.max_radius);
+  pc.blur_radius = float(s_.blur_radius);
+  pc.a = float(s_.a);
+  pc.b = float(s_.b);
+  pc.inv_sigma = float(1.0 / s_.sigma);
+  pc.inv_scene_radius = float(1.0 / s_.scene_radius);
+  pc.f_px = float(s_.f_px);
+  pc.eye_x = float(s_.eye[0]);
+  pc.eye_y = float(s_.eye[1]);
+  pc.eye_z = float(s_.eye[2]);
+  const auto& m = s_.rot;
+  pc.r00 = float(m[0]), pc.r01 = float(m[1]), pc.r02 = float(m[2]);
+  pc.r10 = float(m[3]), pc.r11 = float(m[4]), pc.r12 = float(m[5]);
+  pc.r20 = float(m[6]), pc.r21 = float(m[7]), pc.r22 = float(m[8]);
+  // Without a roughness channel the slot is bound to refl.dist and never read.
+  const gpu::Buffer& rb = pc.has_roughness ? *rough : dist;
+  seq.dispatch(kernel_,
+               {gpu::Binding::of(refl), gpu::Binding::of(dist), gpu::Binding::of(weight),
+                gpu::Binding::of(normal), gpu::Binding::of(geo), gpu::Binding::of(rb),
+                gpu::Binding::of(fg), gpu::Binding::of(glossy), gpu::Binding::of(tiles)},
+               pc, w, h, label);
+}
+
+double ReflectionsPass::skipped_fraction(const gpu::Buffer& tiles, uint32_t w, uint32_t h) {
+  const uint32_t nt = refl_tiles(w, h);
+  auto t = tiles.download_as<float>(nt);
+  size_t k = 0;
+  for (float v : t) k += v != 0.0f ? 1 : 0;
+  return nt ? double(k) / nt : 0.0;
+}
+
+}  // namespace isg::effects

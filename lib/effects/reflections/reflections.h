@@ -1,0 +1,51 @@
+// Glossy reflections (paper §3.2, eq. 4, 10-14): refl.glossy from the renderer's sharp
+// reflection refl, its distance refl.dist, P (or Z and the camera), N and roughness.
+//   isg:  one pass reflections.isg: parameter search over refl.dist within R_p (eq. 4, 10-12),
+//         then the gather over refl within R_s (eq. 13) / R_g (eq. 14), the GGX lobe projected
+//         into screen space as spatial weight, elongated along the plane of incidence.
+//   blur: the naive alternative, a constant-width disk blur of refl (no contact hardening).
+// The composite term refl.weight·(refl.glossy − refl) is the shared composite_term pass.
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "effects/reflections/settings.h"
+#include "gpu/gpu.h"
+
+namespace isg::effects {
+
+// The inputs, as planes of w·h floats (position: 3 planes, or depth: 1 plane; roughness may be
+// empty: the preset value; fg: 1 foreground, 0 background).
+struct ReflInputs {
+  int w = 0, h = 0;
+  std::vector<float> refl, dist, weight, normal, position, depth, roughness, fg;
+};
+
+// C++ double-precision reference of pass reflections.isg; returns refl.glossy (3 planes) and,
+// in `tiles`, 1 per 16×16 tile that took the cheap path (nothing glossy), else 0.
+std::vector<float> reflections_reference(const ReflInputs& in, const ReflSettings& s,
+                                         std::vector<float>* tiles = nullptr);
+
+uint32_t refl_tiles(uint32_t w, uint32_t h);
+
+class ReflectionsPass {
+ public:
+  ReflectionsPass(gpu::Context& ctx, const ReflSettings& s);
+  // geo: P (has_position) or Z; rough may be null (preset roughness).
+  void record(gpu::Sequence& seq, const gpu::Buffer& refl, const gpu::Buffer& dist,
+              const gpu::Buffer& weight, const gpu::Buffer& normal, const gpu::Buffer& geo,
+              bool has_position, const gpu::Buffer* rough, const gpu::Buffer& fg,
+              const gpu::Buffer& glossy, const gpu::Buffer& tiles, uint32_t w, uint32_t h,
+              const std::string& label);
+  // After submit: the fraction of tiles that took the cheap path.
+  static double skipped_fraction(const gpu::Buffer& tiles, uint32_t w, uint32_t h);
+
+ private:
+  ReflSettings s_;
+  gpu::Kernel kernel_;
+};
+
+}  // namespace isg::effects

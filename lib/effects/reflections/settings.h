@@ -1,0 +1,41 @@
+// Glossy-reflection settings the planner resolves from the camera and the preset (no GPU here).
+#pragma once
+
+#include <array>
+#include <string>
+
+#include "io/scene.h"
+#include "params/params.h"
+
+namespace isg::effects {
+
+struct ReflSettings {
+  std::string method = "isg";  // "isg" or "blur"
+  int grid_search = 5;         // search samples = grid_search², concentric disk, rotated per pixel
+  int grid_gather = 7;         // gather samples = grid_gather²
+  double roughness = 0.25;     // where the roughness channel is absent (or overridden)
+  bool roughness_override = false;
+  double energy = 0.99;                   // fraction of the GGX lobe inside the cone θ_max
+  double a = 1.0, b = 1.0, sigma = 0.01;  // eq. 10 (l in units of scene_radius)
+  double scene_radius = 1.0;
+  double max_radius = 256;     // footprint clamp, pixels
+  double blur_radius = 16;     // method blur, pixels
+  bool search_reach = true;    // the search counts only reflections whose footprint reaches p_0
+  bool search_misses = false;  // misses (t = 1, eq. 13's limit) take part in the search
+  bool masking = true;         // the lobe's masking-shadowing loss (Smith) scales refl.glossy
+  bool anisotropic = true;     // eq. 14 across the plane of incidence only
+  // Camera: focal length in pixels of the image filtered, position, world-to-camera rotation.
+  double f_px = 1.0;
+  std::array<double, 3> eye{0, 0, 0};
+  std::array<double, 9> rot{1, 0, 0, 0, 1, 0, 0, 0, 1};
+};
+
+// From the camera (any resolution: f_px is for `height` rows) and the preset.
+ReflSettings refl_settings(const io::Camera& cam, double scene_radius, const params::Params& p,
+                           int height);
+
+// tan θ_h of the GGX cone holding the fraction E of the NDF's projected area: the CDF in θ_h
+// is P(θ_h ≤ t) = tan²t / (α² + tan²t), so tan θ_h = α·sqrt(E / (1 − E)). θ_max = 2·θ_h.
+double ggx_cone_tan(double alpha, double energy);
+
+}  // namespace isg::effects

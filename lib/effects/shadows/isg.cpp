@@ -1,0 +1,392 @@
+#include "effects/shadows/isg.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstring>
+#include <numbers>
+
+#include "isg/shaders/shadows_isg.spv.h"
+#include "isg/shaders/shadows_isg_tiles.spv.h"
+#include "shadows_isg_io.h"
+
+namespace isg::effects {
+
+namespace {
+constexpr double kPi = std::numbers::pi;
+constexpr int kTile = SHADOWS_ISG_TILE;
+using V2 = std::array<double, 2>;
+using V3 = std::array<double, 3>;
+
+V3 sub(V3 a, V3 b) { return {a[0] - b[0], a[1] - b[1], a[2] - b[2]}; }
+double len3(V3 a) { return std::sqrt(a[0] * a[0] + a[1] * a[1] + a[2] * a[2]); }
+
+int grid_of(long long samples) { return std::max(1, int(std::lround(std::sqrt(double(samples))))); }
+
+uint32_t pixel_hash(uint32_t x, uint32_t y) {
+  uint32_t h = (x * 0x8da6b343u) ^ (y * 0xd8163841u);
+  h ^= h >> 16; h *= 0x7feb352du; h ^= h >> 15; h *= 0x846ca68bu; h ^= h >> 16;
+  return h;
+}
+
+// Shirley-Chiu concentric map of cell k of a grid x grid lattice onto the unit disk.
+V2 concentric(int k, int grid) {
+  double a = 2.0 * (double(k % grid) + 0.5) / grid - 1.0;
+  double b = 2.0 * (double(k / grid) + 0.5) / grid - 1.0;
+  if (a == 0.0 && b == 0.0) return {0, 0};
+  double r, phi;
+  if (std::abs(a) > std::abs(b)) { r = a; phi = (kPi / 4.0) * (b / a); }
+  else { r = b; phi = kPi / 2.0 - (kPi / 4.0) * (a / b); }
+  return {r * std::cos(phi), r * std::sin(phi)};
+}
+
+struct Ctx {
+  const ShadowInputs& in;
+  const ShadowSettings& s;
+  size_t n;
+  bool fg(size_t i) const { return in.fg[i] != 0.0f; }
+  V3 position(size_t i) const {
+    if (!in.position.empty()) return {in.position[i], in.position[n + i], in.position[2 * n + i]};
+    double z = in.depth[i];
+    double x = double(i % size_t(in.w)) + 0.5, y = double(i / size_t(in.w)) + 0.5;
+    V3 c = {(x - 0.5 * in.w) / s.f_px * z, -(y - 0.5 * in.h) / s.f_px * z, -z};
+    const auto& r = s.rot;  // R^T c + eye
+    return {r[0] * c[0] + r[3] * c[1] + r[6] * c[2] + s.eye[0],
+            r[1] * c[0] + r[4] * c[1] + r[7] * c[2] + s.eye[1],
+            r[2] * c[0] + r[5] * c[1] + r[8] * c[2] + s.eye[2]};
+  }
+  double eye_depth(V3 w) const {
+    V3 d = sub(w, s.eye);
+    const auto& r = s.rot;
+    return -(r[6] * d[0] + r[7] * d[1] + r[8] * d[2]);
+  }
+  // Eq. 8: the penumbra radius R_s for an occluder at d, the light at D.
+  double penumbra(double d, double D) const {
+    return s.light_size * d / std::max(D - d, SHADOWS_ISG_MIN_GAP * D);
+  }
+  // Eq. 6-7 without inShadow: a gaussian of the world distance (scene_radius units).
+  double range_l(double l) const {
+    double u = l / s.scene_radius;
+    return std::exp(-u * u / s.sigma);
+  }
+  // cos θ_i of the receiver at (x, y): the normal from P's screen derivatives (one-sided next to
+  // a silhouette), clamped to SHADOWS_ISG_MIN_COS.
+  V3 axis_diff(int x, int y, V3 P0, int ex, int ey) const {
+    const int ax = x - ex, ay = y - ey, bx = x + ex, by = y + ey;
+    const bool ha = ax >= 0 && ay >= 0 && fg(size_t(ay) * in.w + ax);
+    const bool hb = bx < in.w && by < in.h && fg(size_t(by) * in.w + bx);
+    const V3 f = hb ? sub(position(size_t(by) * in.w + bx), P0) : V3{0, 0, 0};
+    const V3 g = ha ? sub(P0, position(size_t(ay) * in.w + ax)) : V3{0, 0, 0};
+    if (ha && hb) {
+      const double lf = len3(f), lg = len3(g);
+      if (std::max(lf, lg) < 2.0 * std::min(lf, lg)) return {f[0] + g[0], f[1] + g[1], f[2] + g[2]};
+      return lf < lg ? f : g;
+    }
+    return ha ? g : f;
+  }
+  double cos_incidence(int x, int y, V3 P0, V3 wl) const {
+    const V3 a = axis_diff(x, y, P0, 1, 0), b = axis_diff(x, y, P0, 0, 1);
+    const V3 nn = {a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]};
+    const double ln = len3(nn);
+    if (!(ln > 0.0)) return 1.0;
+    return std::max(std::abs(nn[0] * wl[0] + nn[1] * wl[1] + nn[2] * wl[2]) / ln, SHADOWS_ISG_MIN_COS);
+  }
+  // The distance in the penumbra's cross-section: d projected along the light direction wl onto
+  // the plane across the ray (sphere lights) or onto the light's own plane (disk and rect).
+  double across(V3 d, V3 wl) const {
+    auto dot = [](V3 a, V3 b) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; };
+    if (!s.oriented) {
+      const double t = dot(d, wl);
+      return len3({d[0] - t * wl[0], d[1] - t * wl[1], d[2] - t * wl[2]});
+    }
+    double c = dot(wl, s.light_normal);
+    c = c < 0.0 ? std::min(c, -SHADOWS_ISG_MIN_COS) : std::max(c, SHADOWS_ISG_MIN_COS);
+    const double t = dot(d, s.light_normal) / c;
+    return len3({d[0] - t * wl[0], d[1] - t * wl[1], d[2] - t * wl[2]});
+  }
+  // Bilinear taps of q (pixel centres at +0.5); taps outside the image get weight 0.
+  void taps(V2 q, size_t t[4], double bw[4]) const {
+    double x = q[0] - 0.5, y = q[1] - 0.5;
+    double x0 = std::floor(x), y0 = std::floor(y), fx = x - x0, fy = y - y0;
+    const double wx[2] = {1 - fx, fx}, wy[2] = {1 - fy, fy};
+    for (int j = 0; j < 4; ++j) {
+      long long xx = (long long)x0 + (j & 1), yy = (long long)y0 + (j >> 1);
+      bool inside = xx >= 0 && yy >= 0 && xx < in.w && yy < in.h;
+      t[j] = inside ? size_t(yy) * size_t(in.w) + size_t(xx) : 0;
+      bw[j] = inside ? wx[j & 1] * wy[j >> 1] : 0.0;
+    }
+  }
+};
+}  // namespace
+
+double light_size(const io::Light& light) {
+  switch (light.type) {
+    case io::LightType::sphere:
+    case io::LightType::disk: return light.radius;
+    case io::LightType::rect: {
+      const double a = 0.5 * light.size[0], b = 0.5 * light.size[1];
+      return std::sqrt(4.0 * a * b / kPi);
+    }
+    case io::LightType::point: return 0.0;
+  }
+  return 0.0;
+}
+
+std::string shadows_isg_unsupported(const io::Light* light) {
+  if (!light) return "no scene entry for the light: isg needs its position and size";
+  if (light->type == io::LightType::point) return "point light: hard shadows are already right";
+  if (!(light_size(*light) > 0.0)) return "light of size 0: hard shadows are already right";
+  return "";
+}
+
+ShadowSettings shadow_settings(const io::Light& light, const io::Camera& cam, double scene_radius,
+                               const params::Params& p, int height) {
+  ShadowSettings s;
+  s.grid_search = grid_of(p.integer("shadows.search_samples"));
+  s.grid_gather = grid_of(p.integer("shadows.gather_samples"));
+  s.sigma = p.number("shadows.sigma");
+  s.scene_radius = scene_radius > 0 ? scene_radius : 1.0;
+  s.max_radius = p.number("shadows.max_radius");
+  s.rotate = p.flag("shadows.rotate");
+  s.search_reach = p.flag("shadows.search_reach");
+  s.tile_skip = p.flag("shadows.tile_skip");
+  s.light = light.position;
+  s.light_size = light_size(light);
+  s.oriented = light.type == io::LightType::disk || light.type == io::LightType::rect;
+  const double nl = std::sqrt(light.normal[0] * light.normal[0] + light.normal[1] * light.normal[1] +
+                              light.normal[2] * light.normal[2]);
+  if (nl > 0) s.light_normal = {light.normal[0] / nl, light.normal[1] / nl, light.normal[2] / nl};
+  s.f_px = 0.5 * height / std::tan(cam.yfov_deg * kPi / 360.0);
+  const io::Mat4 inv = io::inverse(cam.world_to_camera);
+  s.eye = {inv[3], inv[7], inv[11]};
+  const auto& m = cam.world_to_camera;
+  s.rot = {m[0], m[1], m[2], m[4], m[5], m[6], m[8], m[9], m[10]};
+  return s;
+}
+
+uint32_t shadows_isg_tiles_words(uint32_t w, uint32_t h) {
+  const uint32_t nt = ((w + kTile - 1) / kTile) * ((h + kTile - 1) / kTile);
+  return 3 * nt + SHADOWS_ISG_STATS;
+}
+
+std::vector<float> shadows_isg_reference(const ShadowInputs& in, const ShadowSettings& s,
+                                         ShadowIsgStats* stats) {
+  const size_t n = size_t(in.w) * in.h;
+  Ctx c{in, s, n};
+  std::vector<float> out(in.shadow.begin(), in.shadow.begin() + n);
+  const int tx = (in.w + kTile - 1) / kTile, ty = (in.h + kTile - 1) / kTile;
+
+  // shadows.isg.tiles: flags per tile and d_max.
+  std::vector<uint32_t> flags(size_t(tx) * ty, 0);
+  std::vector<float> d_tile(size_t(tx) * ty, 0.0f);
+  float d_max = 0.0f;
+  for (int y = 0; y < in.h; ++y) {
+    for (int x = 0; x < in.w; ++x) {
+      const size_t i = size_t(y) * in.w + x;
+      if (!c.fg(i)) continue;
+      const float sh = in.shadow[i];
+      flags[size_t(y / kTile) * tx + x / kTile] |=
+          (sh > 0.0f ? SHADOWS_ISG_FLAG_LIT : 0u) | (sh < 1.0f ? SHADOWS_ISG_FLAG_SHADOW : 0u);
+      if (sh < 1.0f && in.occluder[i] > 0.0f) {
+        float& dt = d_tile[size_t(y / kTile) * tx + x / kTile];
+        dt = std::max(dt, in.occluder[i]);
+        d_max = std::max(d_max, in.occluder[i]);
+      }
+    }
+  }
+
+  ShadowIsgStats st;
+  st.d_max = d_max;
+  size_t cheap_tiles = 0;
+  for (int by = 0; by < ty; ++by) {
+    for (int bx = 0; bx < tx; ++bx) {
+      const int x0 = bx * kTile, x1 = std::min(in.w, x0 + kTile);
+      const int y0 = by * kTile, y1 = std::min(in.h, y0 + kTile);
+      // The reach of the widest penumbra in the image bounds the tiles to look at.
+      // World size of a pixel at the receiver (Camera::pixel_size_at) shrunk by cos θ_i: the
+      // penumbra's stretch along the receiver.
+      auto pixel_size = [&](int x, int y, V3 P0, V3 wl) {
+        return std::max(c.eye_depth(P0), 1e-6) / s.f_px * c.cos_incidence(x, y, P0, wl);
+      };
+      auto light_dir = [&](V3 P0) {
+        const V3 v = sub(s.light, P0);
+        const double D = std::max(len3(v), 1e-20);
+        return V3{v[0] / D, v[1] / D, v[2] / D};
+      };
+      double rp_tile = 0.0;
+      for (int y = y0; y < y1; ++y)
+        for (int x = x0; x < x1; ++x) {
+          const size_t i = size_t(y) * in.w + x;
+          if (!c.fg(i) || !(d_max > 0.0f)) continue;
+          const V3 P0 = c.position(i);
+          const double rp = c.penumbra(d_max, len3(sub(s.light, P0))) / pixel_size(x, y, P0, light_dir(P0));
+          rp_tile = std::max(rp_tile, std::min(rp, s.max_radius));
+        }
+      // The tiles the search and the gather can reach (radius + 1 for the bilinear taps).
+      const int reach = int(std::ceil(rp_tile)) + 1;
+      const int lx = std::max((x0 - reach) / kTile, 0), ly = std::max((y0 - reach) / kTile, 0);
+      const int hx = std::min((x0 + kTile - 1 + reach) / kTile, tx - 1);
+      const int hy = std::min((y0 + kTile - 1 + reach) / kTile, ty - 1);
+      uint32_t any = 0;
+      float d_loc = 0.0f;
+      for (int yy = ly; yy <= hy; ++yy)
+        for (int xx = lx; xx <= hx; ++xx) {
+          any |= flags[size_t(yy) * tx + xx];
+          d_loc = std::max(d_loc, d_tile[size_t(yy) * tx + xx]);
+        }
+      const bool cheap =
+          s.tile_skip && any != (SHADOWS_ISG_FLAG_LIT | SHADOWS_ISG_FLAG_SHADOW);
+      if (cheap) {
+        ++cheap_tiles;
+        continue;  // L.softshadow = L.shadow
+      }
+      for (int y = y0; y < y1; ++y) {
+        for (int x = x0; x < x1; ++x) {
+          const size_t i = size_t(y) * in.w + x;
+          if (!c.fg(i)) continue;  // background is left untouched
+          ++st.full_pixels;
+          const V3 P0 = c.position(i);
+          const double D = len3(sub(s.light, P0));
+          const V3 wl = light_dir(P0);
+          const double pix = pixel_size(x, y, P0, wl);
+          // Eq. 5: R_p covers the widest penumbra the occluders around can cast.
+          const double Rp_raw = d_loc > 0.0f ? c.penumbra(d_loc, D) / pix : 0.0;
+          bool clamped = Rp_raw > s.max_radius;
+          const double Rp = std::min(Rp_raw, s.max_radius);
+          const V2 p0 = {x + 0.5, y + 0.5};
+          const double ang =
+              s.rotate ? double(pixel_hash(uint32_t(x), uint32_t(y))) * (2.0 * kPi / 4294967296.0) : 0.0;
+          const double ca = std::cos(ang), sa = std::sin(ang);
+
+          // Parameter search (eq. 4, 6, 7), the centre tap included.
+          const double s0 = in.shadow[i], o0 = in.occluder[i];
+          double sw = 0.0, swd = 0.0;
+          if (s0 < 1.0 && o0 > 0.0) {
+            sw = 1.0 - s0;
+            swd = sw * o0;
+          }
+          for (int k = 0; k < s.grid_search * s.grid_search; ++k) {
+            const V2 cs = concentric(k, s.grid_search);
+            const V2 q = {p0[0] + Rp * (ca * cs[0] - sa * cs[1]), p0[1] + Rp * (sa * cs[0] + ca * cs[1])};
+            size_t t[4];
+            double bw[4];
+            c.taps(q, t, bw);
+            for (int j = 0; j < 4; ++j) {
+              if (bw[j] == 0.0 || !c.fg(t[j])) continue;
+              const double sj = in.shadow[t[j]], oj = in.occluder[t[j]];
+              if (!(sj < 1.0 && oj > 0.0)) continue;
+              const V3 Pt = c.position(t[j]);
+              double r = c.range_l(len3(sub(Pt, P0))) * (1.0 - sj) * bw[j];
+              const double l = c.across(sub(Pt, P0), wl);
+              if (s.search_reach) {
+                // PCSS's blocker test in image space: the occluder's own penumbra reaches p_0.
+                const double Rt = c.penumbra(oj, len3(sub(s.light, Pt)));
+                r *= std::clamp((SHADOWS_ISG_REACH * Rt + pix - l) / pix, 0.0, 1.0);
+              }
+              sw += r;
+              swd += r * oj;
+            }
+          }
+          if (sw > 0.0) {
+            const double d = swd / sw;
+            // Eq. 8-9.
+            const double Rs = c.penumbra(d, D);
+            const double Rg_raw = Rs / pix;
+            clamped = clamped || Rg_raw > s.max_radius;
+            const double Rg = std::min(Rg_raw, s.max_radius);
+            // Gather (eq. 4): uniform over the points within R_s of p_0 across the light
+            // direction (the penumbra's footprint on the receiver).
+            double sum = s0, ws = 1.0;
+            for (int k = 0; k < s.grid_gather * s.grid_gather; ++k) {
+              const V2 cs = concentric(k, s.grid_gather);
+              const V2 q = {p0[0] + Rg * (ca * cs[0] - sa * cs[1]), p0[1] + Rg * (sa * cs[0] + ca * cs[1])};
+              size_t t[4];
+              double bw[4];
+              c.taps(q, t, bw);
+              for (int j = 0; j < 4; ++j) {
+                if (bw[j] == 0.0 || !c.fg(t[j])) continue;
+                const V3 dP = sub(c.position(t[j]), P0);
+                const double l = c.across(dP, wl);
+                const double r = c.range_l(len3(dP)) * std::clamp((Rs + 0.5 * pix - l) / pix, 0.0, 1.0) * bw[j];
+                sum += r * in.shadow[t[j]];
+                ws += r;
+              }
+            }
+            out[i] = float(sum / ws);
+          }
+          if (clamped) ++st.clamped_pixels;
+        }
+      }
+    }
+  }
+  st.skipped_fraction = tx * ty > 0 ? double(cheap_tiles) / (double(tx) * ty) : 0.0;
+  if (stats) *stats = st;
+  return out;
+}
+
+ShadowsIsgPass::ShadowsIsgPass(gpu::Context& ctx)
+    : tiles_kernel_(ctx, "shadows.isg.tiles", isg_spv_shadows_isg_tiles,
+                    std::vector<gpu::Slot>(4, gpu::Slot::buffer), sizeof(shaders::ShadowsIsgPush),
+                    SHADOWS_ISG_TILE, SHADOWS_ISG_TILE),
+      kernel_(ctx, "shadows.isg", isg_spv_shadows_isg, std::vector<gpu::Slot>(6, gpu::Slot::buffer),
+              sizeof(shaders::ShadowsIsgPush), SHADOWS_ISG_TILE, SHADOWS_ISG_TILE) {}
+
+void ShadowsIsgPass::record(gpu::Sequence& seq, const ShadowSettings& s, const gpu::Buffer& shadow,
+                            const gpu::Buffer& occluder, const gpu::Buffer& geo, bool has_position,
+                            const gpu::Buffer& fg, gpu::Buffer& tiles,
+                            const gpu::Buffer& soft, uint32_t w, uint32_t h,
+                            const std::string& label) {
+  shaders::ShadowsIsgPush pc{};
+  pc.width = w;
+  pc.height = h;
+  pc.grid_search = uint32_t(s.grid_search);
+  pc.grid_gather = uint32_t(s.grid_gather);
+  pc.has_position = has_position ? 1u : 0u;
+  pc.flags = (s.rotate ? SHADOWS_ISG_ROTATE : 0u) | (s.search_reach ? SHADOWS_ISG_SEARCH_REACH : 0u) |
+             (s.tile_skip ? SHADOWS_ISG_TILE_SKIP : 0u) | (s.oriented ? SHADOWS_ISG_ORIENTED : 0u);
+  pc.light_size = float(s.light_size);
+  pc.inv_sigma = float(1.0 / s.sigma);
+  pc.inv_scene_radius = float(1.0 / s.scene_radius);
+  pc.max_radius = float(s.max_radius);
+  pc.f_px = float(s.f_px);
+  pc.light_x = float(s.light[0]);
+  pc.light_y = float(s.light[1]);
+  pc.light_z = float(s.light[2]);
+  pc.eye_x = float(s.eye[0]);
+  pc.eye_y = float(s.eye[1]);
+  pc.eye_z = float(s.eye[2]);
+  pc.light_nx = float(s.light_normal[0]);
+  pc.light_ny = float(s.light_normal[1]);
+  pc.light_nz = float(s.light_normal[2]);
+  const auto& m = s.rot;
+  pc.r00 = float(m[0]), pc.r01 = float(m[1]), pc.r02 = float(m[2]);
+  pc.r10 = float(m[3]), pc.r11 = float(m[4]), pc.r12 = float(m[5]);
+  pc.r20 = float(m[6]), pc.r21 = float(m[7]), pc.r22 = float(m[8]);
+  // The statistics are accumulated with atomics: start from zero.
+  std::vector<uint32_t> zero(shadows_isg_tiles_words(w, h), 0u);
+  tiles.upload(std::span<const uint32_t>(zero));
+  seq.dispatch(tiles_kernel_,
+               {gpu::Binding::of(shadow), gpu::Binding::of(occluder), gpu::Binding::of(fg),
+                gpu::Binding::of(tiles)},
+               pc, w, h, label + ".tiles");
+  seq.dispatch(kernel_,
+               {gpu::Binding::of(shadow), gpu::Binding::of(occluder), gpu::Binding::of(geo),
+                gpu::Binding::of(fg), gpu::Binding::of(tiles), gpu::Binding::of(soft)},
+               pc, w, h, label);
+}
+
+ShadowIsgStats ShadowsIsgPass::stats(const gpu::Buffer& tiles, uint32_t w, uint32_t h) {
+  const uint32_t words = shadows_isg_tiles_words(w, h), nt = (words - SHADOWS_ISG_STATS) / 3;
+  auto t = tiles.download_as<uint32_t>(words);
+  ShadowIsgStats st;
+  size_t k = 0;
+  for (uint32_t j = 0; j < nt; ++j) k += t[2 * nt + j] != 0 ? 1 : 0;
+  st.skipped_fraction = nt ? double(k) / nt : 0.0;
+  float d;
+  std::memcpy(&d, &t[3 * nt + SHADOWS_ISG_STAT_DMAX], sizeof d);
+  st.d_max = d;
+  st.clamped_pixels = t[3 * nt + SHADOWS_ISG_STAT_CLAMPED];
+  st.full_pixels = t[3 * nt + SHADOWS_ISG_STAT_FULL];
+  return st;
+}
+
+}  // namespace isg::effects

@@ -1,0 +1,65 @@
+// Soft-shadow method `isg` (paper §3.1, eq. 4-9): L.softshadow from the renderer's hard shadow
+// L.shadow, the occluder distance L.occluder, P (or Z and the camera) and the light.
+//   shadows.isg.tiles: per 16×16 tile, lit/shadowed foreground flags and the image's largest
+//                      occluder distance d_max;
+//   shadows.isg:       per pixel, the parameter search over occluder distances within R_p (eq.
+//                      5-7; R_p covers the widest penumbra the occluders of the tiles around can
+//                      cast, so lit pixels next to a shadow find it), then the gather over the
+//                      shadow bits within R_g (eq. 8-9), both with the consistent estimator eq.
+//                      4 (centre tap included); tiles with no shadow boundary within reach copy
+//                      L.shadow.
+// World radii become pixels through the camera at the receiver's depth (Camera::pixel_size_at),
+// widened by 1 / cos θ_i (the receiver's normal from P's screen derivatives) since the penumbra
+// lies stretched on a receiver inclined to the light; the gather keeps only points within R_s
+// of p_0 in the penumbra's cross-section, so grazing receivers do not blur along the surface.
+// The composite term L.direct·(L.softshadow − L.shadow) is the shared composite_term pass.
+#pragma once
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "effects/shadows/settings.h"
+#include "gpu/gpu.h"
+
+namespace isg::effects {
+
+// The inputs, as planes of w·h floats (position: 3 planes, or depth: 1 plane; fg: 1
+// foreground, 0 background).
+struct ShadowInputs {
+  int w = 0, h = 0;
+  std::vector<float> shadow, occluder, position, depth, fg;
+};
+
+struct ShadowIsgStats {
+  double skipped_fraction = 0;  // tiles that took the cheap path
+  uint64_t full_pixels = 0;     // pixels that ran the search and gather
+  uint64_t clamped_pixels = 0;  // pixels whose search or gather radius exceeded max_radius
+  double d_max = 0;             // the largest occluder distance
+};
+
+// C++ double-precision reference of passes shadows.isg.tiles and shadows.isg (same sample
+// pattern, same rotation hash); returns L.softshadow.
+std::vector<float> shadows_isg_reference(const ShadowInputs& in, const ShadowSettings& s,
+                                         ShadowIsgStats* stats = nullptr);
+
+// uint32 words of the tiles buffer (flags, cheap-path marks, statistics).
+uint32_t shadows_isg_tiles_words(uint32_t w, uint32_t h);
+
+class ShadowsIsgPass {
+ public:
+  explicit ShadowsIsgPass(gpu::Context& ctx);
+  // geo: P (has_position) or Z. `tiles` holds shadows_isg_tiles_words(w, h) words; it is
+  // cleared here (a host upload, before the sequence runs).
+  void record(gpu::Sequence& seq, const ShadowSettings& s, const gpu::Buffer& shadow,
+              const gpu::Buffer& occluder, const gpu::Buffer& geo, bool has_position,
+              const gpu::Buffer& fg, gpu::Buffer& tiles, const gpu::Buffer& soft, uint32_t w,
+              uint32_t h, const std::string& label);
+  // After submit.
+  static ShadowIsgStats stats(const gpu::Buffer& tiles, uint32_t w, uint32_t h);
+
+ private:
+  gpu::Kernel tiles_kernel_, kernel_;
+};
+
+}  // namespace isg::effects

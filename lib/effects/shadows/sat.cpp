@@ -1,0 +1,60 @@
+#include "effects/shadows/sat.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include "isg/shaders/sat_quantize.spv.h"
+#include "isg/shaders/sat_scan.spv.h"
+#include "sat_io.h"
+
+namespace isg::effects {
+
+SatFixedPoint sat_fixed_point(const std::vector<float>& z, int power, double far_z) {
+  SatFixedPoint fp;
+  fp.power = power;
+  fp.far_z = far_z;
+  double sum = 0, lo = 1e300, hi = -1e300;
+  for (float v : z) {
+    double c = std::min(double(v), far_z);
+    double w = power == 2 ? c * c : c;
+    sum += w;
+    lo = std::min(lo, w);
+    hi = std::max(hi, w);
+  }
+  fp.offset = z.empty() ? 0.0 : sum / double(z.size());
+  // float(offset) is what the shader subtracts; leave room for its rounding and float's.
+  const double dev = std::max({hi - fp.offset, fp.offset - lo, 1e-30});
+  fp.scale = std::ldexp(1.0, 30) / (dev * 1.001);
+  return fp;
+}
+
+double sat_rect_sum(const std::vector<int64_t>& sat, int w, int x0, int y0, int x1, int y1,
+                    const SatFixedPoint& fp) {
+  auto at = [&](int x, int y) -> int64_t {
+    return (x <= 0 || y <= 0) ? 0 : sat[size_t(y - 1) * size_t(w) + size_t(x - 1)];
+  };
+  // Modular int64 arithmetic: exact whatever the intermediate overflow.
+  const uint64_t s = uint64_t(at(x1, y1)) - uint64_t(at(x0, y1)) - uint64_t(at(x1, y0)) +
+                     uint64_t(at(x0, y0));
+  const double area = double(x1 - x0) * double(y1 - y0);
+  return double(int64_t(s)) / fp.scale + area * double(float(fp.offset));
+}
+
+SatPass::SatPass(gpu::Context& ctx)
+    : quantize_(ctx, "sat.quantize", isg_spv_sat_quantize, {gpu::Slot::buffer, gpu::Slot::buffer},
+                sizeof(shaders::SatPush), SAT_LOCAL, 1),
+      scan_(ctx, "sat.scan", isg_spv_sat_scan, {gpu::Slot::buffer}, sizeof(shaders::SatPush),
+            SAT_LOCAL, 1) {}
+
+void SatPass::record(gpu::Sequence& seq, const gpu::Buffer& map, const gpu::Buffer& sat,
+                     uint32_t w, uint32_t h, const SatFixedPoint& fp, const std::string& label) {
+  shaders::SatPush pc{w, h, 0u, uint32_t(fp.power), float(fp.offset), float(fp.scale),
+                      float(std::min(fp.far_z, 1e30)), 0.0f};
+  seq.dispatch(quantize_, {gpu::Binding::of(map), gpu::Binding::of(sat)}, pc, w, h,
+               label + ".quantize");
+  seq.dispatch(scan_, {gpu::Binding::of(sat)}, pc, SAT_LOCAL * h, 1, label + ".rows");
+  pc.axis = 1u;
+  seq.dispatch(scan_, {gpu::Binding::of(sat)}, pc, SAT_LOCAL * w, 1, label + ".columns");
+}
+
+}  // namespace isg::effects

@@ -1,0 +1,350 @@
+#include "effects/shadows/shadowmap.h"
+
+#include <algorithm>
+#include <cmath>
+#include <random>
+
+#include "effects/shadows/settings.h"
+#include "io/image.h"
+#include "isg/shaders/shadowmap_pcss.spv.h"
+#include "shadowmap_io.h"
+
+namespace isg::effects {
+
+namespace {
+constexpr double kPi = 3.14159265358979323846;
+using V2 = std::array<double, 2>;
+using V3 = std::array<double, 3>;
+
+uint32_t hash2(uint32_t x, uint32_t y) {  // = sm_hash in shadowmap_common.h
+  uint32_t h = (x * 0x8da6b343u) ^ (y * 0xd8163841u);
+  h ^= h >> 16;
+  h *= 0x7feb352du;
+  h ^= h >> 15;
+  h *= 0x846ca68bu;
+  h ^= h >> 16;
+  return h;
+}
+
+// The double mirror of shadowmap_common.h.
+struct Geom {
+  const ShadowmapInputs& in;
+  const ShadowmapData& map;
+  const ShadowmapSettings& s;
+  double tan_x, tan_y;
+  size_t n;
+  Geom(const ShadowmapInputs& i, const ShadowmapData& m, const ShadowmapSettings& st)
+      : in(i), map(m), s(st) {
+    tan_y = std::tan(s.yfov_deg * kPi / 360.0);
+    tan_x = tan_y * double(m.width) / double(m.height);
+    n = size_t(in.w) * size_t(in.h);
+    const io::Mat4 inv = io::inverse(s.world_to_light);
+    light_pos = {inv[3], inv[7], inv[11]};
+  }
+  V3 light_pos{0, 0, 0};
+  V3 position(size_t i) const {
+    if (!in.position.empty()) return {in.position[i], in.position[n + i], in.position[2 * n + i]};
+    double z = in.depth[i];
+    double x = double(i % size_t(in.w)) + 0.5, y = double(i / size_t(in.w)) + 0.5;
+    V3 c = {(x - 0.5 * in.w) / s.f_px * z, -(y - 0.5 * in.h) / s.f_px * z, -z};
+    const auto& r = s.rot;
+    return {r[0] * c[0] + r[3] * c[1] + r[6] * c[2] + s.eye[0],
+            r[1] * c[0] + r[4] * c[1] + r[7] * c[2] + s.eye[1],
+            r[2] * c[0] + r[5] * c[1] + r[8] * c[2] + s.eye[2]};
+  }
+  V3 project(const V3& P) const {
+    const auto& m = s.world_to_light;
+    double x = m[0] * P[0] + m[1] * P[1] + m[2] * P[2] + m[3];
+    double y = m[4] * P[0] + m[5] * P[1] + m[6] * P[2] + m[7];
+    double z = -(m[8] * P[0] + m[9] * P[1] + m[10] * P[2] + m[11]);
+    if (z <= 1e-6) return {-1, -1, -1};
+    return {(x / (z * tan_x) * 0.5 + 0.5) * map.width, (0.5 - y / (z * tan_y) * 0.5) * map.height, z};
+  }
+  bool inside(const V3& q) const {
+    return q[2] > 0 && q[0] >= 0 && q[1] >= 0 && q[0] < map.width && q[1] < map.height;
+  }
+  V3 receiver_plane(int px, int py, const V3& q, const V3& P, bool& back) const {
+    std::array<V3, 2> d{}, t{};
+    back = false;
+    int found = 0;
+    double spread = 1e30;
+    for (int axis = 0; axis < 2; ++axis) {
+      double best = 1e30;
+      V3 bd{0, 0, 0}, bt{0, 0, 0};
+      for (int sg = -1; sg <= 1; sg += 2) {
+        int nx = px + (axis == 0 ? sg : 0), ny = py + (axis == 1 ? sg : 0);
+        if (nx < 0 || ny < 0 || nx >= in.w || ny >= in.h) continue;
+        size_t j = size_t(ny) * in.w + nx;
+        if (in.fg[j] == 0.0f) continue;
+        V3 Pn = position(j);
+        V3 qn = project(Pn);
+        if (qn[2] <= 0) continue;
+        double dz = std::abs(qn[2] - q[2]);
+        if (dz < best) {
+          best = dz;
+          bd = {qn[0] - q[0], qn[1] - q[1], 1.0 / qn[2] - 1.0 / q[2]};
+          bt = {Pn[0] - P[0], Pn[1] - P[1], Pn[2] - P[2]};
+        }
+      }
+      if (best < 1e30) { t[size_t(found)] = bt; d[size_t(found++)] = bd; }
+      spread = std::min(spread, best);
+    }
+    if (spread >= 1e30) spread = 0.0;
+    if (found < 2) return {0, 0, spread};
+    if (s.has_camera) {
+      V3 nr = {t[0][1] * t[1][2] - t[0][2] * t[1][1], t[0][2] * t[1][0] - t[0][0] * t[1][2],
+               t[0][0] * t[1][1] - t[0][1] * t[1][0]};
+      auto dot_to = [&](const std::array<double, 3>& X) {
+        return nr[0] * (X[0] - P[0]) + nr[1] * (X[1] - P[1]) + nr[2] * (X[2] - P[2]);
+      };
+      double se = dot_to(s.eye) < 0 ? -1.0 : 1.0;
+      back = se * dot_to(light_pos) < 0;
+    }
+    double det = d[0][0] * d[1][1] - d[0][1] * d[1][0];
+    if (std::abs(det) < 1e-8) return {0, 0, spread};
+    return {(d[0][2] * d[1][1] - d[1][2] * d[0][1]) / det,
+            (d[0][0] * d[1][2] - d[1][0] * d[0][2]) / det, spread};
+  }
+  double threshold(const V3& q, const V3& g, double cx, double cy, double texel_world) const {
+    double ox = cx - q[0], oy = cy - q[1];
+    double iz = 1.0 / q[2] + g[0] * ox + g[1] * oy;
+    double zc = iz > 0 ? 1.0 / iz : 1e30;
+    double lim = s.slope_max * texel_world * std::sqrt(ox * ox + oy * oy);
+    zc = std::clamp(zc, q[2] - lim, q[2] + lim);
+    return zc - s.bias * texel_world - s.spread_bias * g[2];
+  }
+  bool in_map(double cx, double cy) const {
+    return cx >= 0 && cy >= 0 && cx < map.width && cy < map.height;
+  }
+  double fetch(double cx, double cy) const {
+    return map.z[size_t(cy) * size_t(map.width) + size_t(cx)];
+  }
+};
+}  // namespace
+
+std::string shadowmap_unsupported(const io::Light* light, const std::string& name) {
+  if (!light) return "light " + name + " is not in the scene file";
+  if (!light->shadowmap) return "no shadowmap in the scene file for light " + name;
+  if (light->shadowmap->projection != "perspective")
+    return "shadow map of light " + name + " is not perspective";
+  if (light->type == io::LightType::point) return "point light: hard shadows are already right";
+  return "";
+}
+
+ShadowmapSettings shadowmap_settings(const io::Light& light, const io::Camera* cam,
+                                     const params::Params& p, const std::string& method,
+                                     int height) {
+  ShadowmapSettings s;
+  s.method = method;
+  s.file = light.shadowmap->file;
+  s.world_to_light = light.shadowmap->world_to_light;
+  s.yfov_deg = light.shadowmap->yfov_deg;
+  s.light_radius = light_size(light);
+  s.taps = int(p.integer("shadows.pcss_taps"));
+  s.pattern = p.choice("shadows.pcss_pattern");
+  s.rotate = p.flag("shadows.rotate");
+  s.bias = p.number("shadows.bias");
+  s.slope_max = p.number("shadows.slope_max");
+  s.spread_bias = p.number("shadows.spread_bias");
+  s.max_radius = p.number("shadows.smap_max_radius");
+  s.has_camera = cam != nullptr;
+  if (cam) {
+    s.f_px = 0.5 * height / std::tan(cam->yfov_deg * kPi / 360.0);
+    const io::Mat4 inv = io::inverse(cam->world_to_camera);
+    s.eye = {inv[3], inv[7], inv[11]};
+    const auto& m = cam->world_to_camera;
+    s.rot = {m[0], m[1], m[2], m[4], m[5], m[6], m[8], m[9], m[10]};
+  }
+  return s;
+}
+
+std::vector<float> shadowmap_taps(int n, const std::string& pattern) {
+  std::vector<float> t;
+  if (pattern == "stratified") {
+    const int g = std::max(1, int(std::lround(std::sqrt(double(n)))));
+    for (int k = 0; k < g * g; ++k) {
+      double a = 2.0 * (double(k % g) + 0.5) / g - 1.0, b = 2.0 * (double(k / g) + 0.5) / g - 1.0;
+      double r = 0.0, phi = 0.0;
+      if (a == 0.0 && b == 0.0) {}
+      else if (std::abs(a) > std::abs(b)) { r = a; phi = (kPi / 4.0) * (b / a); }
+      else { r = b; phi = kPi / 2.0 - (kPi / 4.0) * (a / b); }
+      t.push_back(float(r * std::cos(phi)));
+      t.push_back(float(r * std::sin(phi)));
+    }
+    return t;
+  }
+  // Poisson disk by dart throwing: the distance shrinks until n darts fit.
+  std::mt19937 rng(12345u);
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  double dmin = 1.6 / std::sqrt(double(std::max(n, 1)));
+  std::vector<V2> pts;
+  int fails = 0;
+  while (int(pts.size()) < n) {
+    V2 c{u(rng), u(rng)};
+    if (c[0] * c[0] + c[1] * c[1] > 1.0) continue;
+    bool ok = true;
+    for (const auto& q : pts)
+      if ((q[0] - c[0]) * (q[0] - c[0]) + (q[1] - c[1]) * (q[1] - c[1]) < dmin * dmin) ok = false;
+    if (ok) { pts.push_back(c); fails = 0; }
+    else if (++fails > 1000) { dmin *= 0.95; fails = 0; }
+  }
+  for (const auto& q : pts) {
+    t.push_back(float(q[0]));
+    t.push_back(float(q[1]));
+  }
+  return t;
+}
+
+ShadowmapData make_shadowmap(int width, int height, std::vector<float> z) {
+  ShadowmapData d;
+  d.width = width;
+  d.height = height;
+  d.z = std::move(z);
+  for (float v : d.z)
+    if (v > 0.0f && v < ISG_BACKGROUND_DEPTH) d.min_depth = std::min(d.min_depth, double(v));
+  return d;
+}
+
+ShadowmapData load_shadowmap(const std::filesystem::path& file) {
+  io::Image img = io::read_exr(file);
+  const io::Channel* z = img.find("Z");
+  if (!z) throw io::IoError(file.string() + ": shadow map has no channel Z");
+  return make_shadowmap(img.width, img.height, z->data);
+}
+
+std::vector<float> pcss_reference(const ShadowmapInputs& in, const ShadowmapData& map,
+                                  const ShadowmapSettings& s, ShadowmapStats* stats) {
+  Geom G(in, map, s);
+  const auto taps = shadowmap_taps(s.taps, s.pattern);
+  const size_t nt = taps.size() / 2;
+  std::vector<float> out(G.n);
+  ShadowmapStats st;
+  const double k = s.light_radius * map.height / (2.0 * G.tan_y);
+  for (int py = 0; py < in.h; ++py) {
+    for (int px = 0; px < in.w; ++px) {
+      const size_t i = size_t(py) * in.w + px;
+      if (in.fg[i] == 0.0f) { out[i] = in.hard[i]; continue; }
+      V3 P = G.position(i);
+      V3 q = G.project(P);
+      if (!G.inside(q)) { out[i] = in.hard[i]; continue; }
+      ++st.pixels;
+      bool back = false;
+      V3 g = G.receiver_plane(px, py, q, P, back);
+      if (back) { ++st.skipped; out[i] = in.hard[i]; continue; }
+      double texel_world = 2.0 * q[2] * G.tan_y / map.height;
+      double a = s.rotate ? double(hash2(uint32_t(px), uint32_t(py))) * (2.0 * kPi / 4294967296.0) : 0.0;
+      double ca = std::cos(a), sa = std::sin(a);
+      auto tap = [&](size_t t, double r) -> V2 {
+        double x = taps[2 * t], y = taps[2 * t + 1];
+        return {std::floor(q[0] + (ca * x - sa * y) * r) + 0.5,
+                std::floor(q[1] + (sa * x + ca * y) * r) + 0.5};
+      };
+      double rs = std::min(k * std::max(1.0 / map.min_depth - 1.0 / q[2], 0.0), s.max_radius);
+      double sum = 0;
+      size_t cnt = 0;
+      for (size_t t = 0; t < nt; ++t) {
+        V2 c = tap(t, rs);
+        if (!G.in_map(c[0], c[1])) continue;
+        double zm = G.fetch(c[0], c[1]);
+        if (zm < G.threshold(q, g, c[0], c[1], texel_world)) { sum += zm; ++cnt; }
+      }
+      if (cnt == 0) { ++st.skipped; out[i] = 1.0f; continue; }
+      double db = sum / double(cnt);
+      double rf = k * std::max(1.0 / db - 1.0 / q[2], 0.0);
+      if (rf > s.max_radius) { rf = s.max_radius; ++st.clamped; }
+      size_t lit = 0;
+      for (size_t t = 0; t < nt; ++t) {
+        V2 c = tap(t, rf);
+        if (!G.in_map(c[0], c[1]) || G.fetch(c[0], c[1]) >= G.threshold(q, g, c[0], c[1], texel_world))
+          ++lit;
+      }
+      out[i] = float(double(lit) / double(nt));
+    }
+  }
+  if (stats) *stats = st;
+  return out;
+}
+
+struct ShadowmapPass::Impl {
+  gpu::Kernel kernel;
+  gpu::Buffer params, taps, stats;
+  uint32_t w, h;
+  Impl(gpu::Context& ctx, uint32_t w_, uint32_t h_)
+      : kernel(ctx, "shadows.pcss", isg_spv_shadowmap_pcss,
+               {gpu::Slot::buffer, gpu::Slot::buffer, gpu::Slot::buffer, gpu::Slot::buffer,
+                gpu::Slot::buffer, gpu::Slot::buffer, gpu::Slot::buffer, gpu::Slot::buffer},
+               sizeof(shaders::ShadowmapPush), SHADOWMAP_LOCAL, SHADOWMAP_LOCAL),
+        w(w_), h(h_) {}
+};
+
+ShadowmapPass::ShadowmapPass(gpu::Context& ctx, const ShadowmapSettings& s,
+                             const ShadowmapData& map, uint32_t w, uint32_t h, bool has_position)
+    : impl_(std::make_unique<Impl>(ctx, w, h)) {
+  if (s.method != "pcss") throw std::logic_error("shadow-map method " + s.method + " not built");
+  const auto taps = shadowmap_taps(s.taps, s.pattern);
+  shaders::ShadowmapParams p{};
+  p.width = w;
+  p.height = h;
+  p.map_w = uint32_t(map.width);
+  p.map_h = uint32_t(map.height);
+  p.has_position = has_position ? 1u : 0u;
+  p.taps = uint32_t(taps.size() / 2);
+  p.rotate = s.rotate ? 1u : 0u;
+  const auto& m = s.world_to_light;
+  float* L[12] = {&p.l00, &p.l01, &p.l02, &p.l03, &p.l10, &p.l11, &p.l12, &p.l13,
+                  &p.l20, &p.l21, &p.l22, &p.l23};
+  for (int k = 0; k < 12; ++k) *L[k] = float(m[size_t(k)]);
+  const double tan_y = std::tan(s.yfov_deg * kPi / 360.0);
+  p.tan_y = float(tan_y);
+  p.tan_x = float(tan_y * map.width / map.height);
+  p.light_radius = float(s.light_radius);
+  p.min_depth = float(std::min(map.min_depth, 1e30));
+  p.max_radius = float(s.max_radius);
+  p.bias = float(s.bias);
+  p.slope_max = float(s.slope_max);
+  p.spread_bias = float(s.spread_bias);
+  p.has_camera = s.has_camera ? 1u : 0u;
+  {
+    const io::Mat4 inv = io::inverse(s.world_to_light);
+    p.light_x = float(inv[3]);
+    p.light_y = float(inv[7]);
+    p.light_z = float(inv[11]);
+  }
+  p.f_px = float(s.f_px);
+  p.eye_x = float(s.eye[0]);
+  p.eye_y = float(s.eye[1]);
+  p.eye_z = float(s.eye[2]);
+  float* R[9] = {&p.r0, &p.r1, &p.r2, &p.r3, &p.r4, &p.r5, &p.r6, &p.r7, &p.r8};
+  for (int k = 0; k < 9; ++k) *R[k] = float(s.rot[size_t(k)]);
+  impl_->params = gpu::Buffer(ctx, sizeof(p), "shadowmap.params");
+  impl_->params.upload(&p, sizeof(p));
+  impl_->taps = gpu::Buffer(ctx, taps.size() * sizeof(float), "shadowmap.taps");
+  impl_->taps.upload(std::span<const float>(taps));
+  std::vector<uint32_t> zero(SHADOWMAP_STATS, 0u);
+  impl_->stats = gpu::Buffer(ctx, zero.size() * sizeof(uint32_t), "shadowmap.stats");
+  impl_->stats.upload(std::span<const uint32_t>(zero));
+}
+
+ShadowmapPass::~ShadowmapPass() = default;
+
+void ShadowmapPass::record(gpu::Sequence& seq, const gpu::Buffer& geo, const gpu::Buffer& fg,
+                           const gpu::Buffer& hard, const gpu::Buffer& map,
+                           const gpu::Buffer& soft, const std::string& label) {
+  shaders::ShadowmapPush pc{impl_->w, impl_->h};
+  seq.dispatch(impl_->kernel,
+               {gpu::Binding::of(impl_->params), gpu::Binding::of(geo), gpu::Binding::of(fg),
+                gpu::Binding::of(hard), gpu::Binding::of(map), gpu::Binding::of(impl_->taps),
+                gpu::Binding::of(soft), gpu::Binding::of(impl_->stats)},
+               pc, impl_->w, impl_->h, label);
+}
+
+ShadowmapStats ShadowmapPass::stats() const {
+  auto v = impl_->stats.download_as<uint32_t>(SHADOWMAP_STATS);
+  ShadowmapStats s;
+  s.pixels = v[SHADOWMAP_STAT_PIXELS];
+  s.skipped = v[SHADOWMAP_STAT_SKIPPED];
+  s.clamped = v[SHADOWMAP_STAT_CLAMPED];
+  return s;
+}
+
+}  // namespace isg::effects

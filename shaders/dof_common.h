@@ -1,0 +1,102 @@
+// GLSL helpers shared by the dof passes; lib/effects/dof/dof.cpp mirrors each one in double.
+// Include after declaring `coc_buf` (signed CoC) and, for colour, `src_buf` (4 planes).
+#ifndef DOF_COMMON_H
+#define DOF_COMMON_H
+#include "dof_io.h"
+const float DOF_PI = 3.14159265358979;
+
+// Per-pixel rotation of the sample grid: an integer hash of the pixel (frame-independent).
+uint dof_hash(uint x, uint y) {
+  uint h = (x * 0x8da6b343u) ^ (y * 0xd8163841u);
+  h ^= h >> 16; h *= 0x7feb352du; h ^= h >> 15; h *= 0x846ca68bu; h ^= h >> 16;
+  return h;
+}
+
+// Shirley-Chiu concentric map of cell k of a grid x grid lattice onto the unit disk.
+vec2 dof_concentric(uint k, uint grid) {
+  float a = 2.0 * (float(k % grid) + 0.5) / float(grid) - 1.0;
+  float b = 2.0 * (float(k / grid) + 0.5) / float(grid) - 1.0;
+  if (a == 0.0 && b == 0.0) return vec2(0.0);
+  float r, phi;
+  if (abs(a) > abs(b)) { r = a; phi = (DOF_PI / 4.0) * (b / a); }
+  else { r = b; phi = DOF_PI / 2.0 - (DOF_PI / 4.0) * (a / b); }
+  return r * vec2(cos(phi), sin(phi));
+}
+
+// Aperture "norm": |v| for a disk, |v| / rho(angle) for an n-gon of circumradius 1, so a point
+// lies inside the aperture of radius r when dof_norm(v) <= r.
+float dof_norm(vec2 v, uint blades, float rotation) {
+  float len = length(v);
+  if (blades < 3u || len == 0.0) return len;
+  float seg = 2.0 * DOF_PI / float(blades);
+  float phi = atan(v.y, v.x) - rotation;
+  float t = phi - seg * floor(phi / seg) - 0.5 * seg;
+  return len * cos(t) / cos(DOF_PI / float(blades));
+}
+
+// Antialiased inside test of offset v in an aperture of radius r (one-pixel ramp).
+float dof_cover(vec2 v, float r, uint blades, float rotation) {
+  return clamp(r - dof_norm(v, blades, rotation) + 0.5, 0.0, 1.0);
+}
+
+// Aperture area per unit radius squared.
+float dof_area_factor(uint blades) {
+  if (blades < 3u) return DOF_PI;
+  return 0.5 * float(blades) * sin(2.0 * DOF_PI / float(blades));
+}
+
+// Bilinear weights and clamped texel indices for position q (pixel centres at +0.5).
+void dof_taps(vec2 q, uint w, uint h, out uint i00, out uint i10, out uint i01, out uint i11,
+              out vec2 f) {
+  vec2 x = q - 0.5;
+  vec2 x0 = floor(x);
+  f = x - x0;
+  int xa = clamp(int(x0.x), 0, int(w) - 1), xb = clamp(int(x0.x) + 1, 0, int(w) - 1);
+  int ya = clamp(int(x0.y), 0, int(h) - 1), yb = clamp(int(x0.y) + 1, 0, int(h) - 1);
+  i00 = uint(ya) * w + uint(xa); i10 = uint(ya) * w + uint(xb);
+  i01 = uint(yb) * w + uint(xa); i11 = uint(yb) * w + uint(xb);
+}
+
+#ifdef DOF_HAS_COC
+float dof_fetch_coc(vec2 q) {
+  uint a, b, c, d; vec2 f;
+  dof_taps(q, pc.width, pc.height, a, b, c, d, f);
+  return mix(mix(coc_buf[a], coc_buf[b], f.x), mix(coc_buf[c], coc_buf[d], f.x), f.y);
+}
+#endif
+#ifdef DOF_HAS_SRC
+vec4 dof_fetch_src(vec2 q) {
+  uint a, b, c, d; vec2 f;
+  dof_taps(q, pc.width, pc.height, a, b, c, d, f);
+  uint n = pc.width * pc.height;
+  vec4 r;
+  for (uint k = 0u; k < 4u; ++k) {
+    uint o = k * n;
+    r[k] = mix(mix(src_buf[o + a], src_buf[o + b], f.x), mix(src_buf[o + c], src_buf[o + d], f.x), f.y);
+  }
+  return r;
+}
+vec4 dof_src(uint i) {
+  uint n = pc.width * pc.height;
+  return vec4(src_buf[i], src_buf[n + i], src_buf[2u * n + i], src_buf[3u * n + i]);
+}
+// The cheap path (tiles whose CoC range is under DOF_CHEAP_RANGE): a plain aperture average of
+// radius |c0|, faded to the sharp pixel below half a pixel.
+vec4 dof_cheap(uvec2 p, float c0, float rot_angle) {
+  vec2 p0 = vec2(p) + 0.5;
+  vec4 c_0 = dof_src(p.y * pc.width + p.x);
+  float r = abs(c0);
+  mat2 rot = mat2(cos(rot_angle), sin(rot_angle), -sin(rot_angle), cos(rot_angle));
+  vec4 s = c_0;
+  float ws = 1.0;
+  for (uint k = 0u; k < pc.grid * pc.grid; ++k) {
+    vec2 d = r * (rot * dof_concentric(k, pc.grid));
+    float w = dof_cover(d, r, pc.blades, pc.rotation);
+    s += w * dof_fetch_src(p0 + d);
+    ws += w;
+  }
+  return mix(c_0, s / ws, smoothstep(0.25, 0.75, r));
+}
+#endif
+float dof_pixel_angle(uvec2 p) { return float(dof_hash(p.x, p.y)) * (2.0 * DOF_PI / 4294967296.0); }
+#endif

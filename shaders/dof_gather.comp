@@ -1,0 +1,48 @@
+#version 450
+#extension GL_GOOGLE_include_directive : require
+// dof.gather (method isg): eq. 4 over radius R_g with the aperture as the spatial weight and the
+// range function of eq. 17, softened: a sample in front of this pixel and sharper (an in-focus
+// object before a blurry background) only counts inside its own CoC.
+#include "dof_gather_io.h"
+layout(local_size_x = DOF_LOCAL, local_size_y = DOF_LOCAL) in;
+layout(std430, binding = 0) readonly buffer Src { float src_buf[]; };
+layout(std430, binding = 1) readonly buffer Coc { float coc_buf[]; };
+layout(std430, binding = 2) readonly buffer Tiles { float tiles[]; };
+layout(std430, binding = 3) readonly buffer Radius { float radius[]; };
+layout(std430, binding = 4) writeonly buffer Composite { float C[]; };
+layout(push_constant) uniform Push { DofPush pc; };
+#define DOF_HAS_COC
+#define DOF_HAS_SRC
+#include "dof_common.h"
+
+void main() {
+  uvec2 p = gl_GlobalInvocationID.xy;
+  if (p.x >= pc.width || p.y >= pc.height) return;
+  uint n = pc.width * pc.height;
+  uint i = p.y * pc.width + p.x;
+  float c0 = coc_buf[i];
+  uint t = 4u * ((p.y / DOF_TILE) * pc.tiles_x + p.x / DOF_TILE);
+  float a = dof_pixel_angle(p);
+  vec4 out_c;
+  if (tiles[t + 3u] != 0.0) {
+    out_c = dof_cheap(p, c0, a);
+  } else {
+    float R_g = radius[i];
+    mat2 rot = mat2(cos(a), sin(a), -sin(a), cos(a));
+    vec2 p0 = vec2(p) + 0.5;
+    vec4 c_0 = dof_src(i);
+    vec4 s = c_0;
+    float ws = 1.0;
+    for (uint k = 0u; k < pc.grid * pc.grid; ++k) {
+      vec2 d = R_g * (rot * dof_concentric(k, pc.grid));
+      float ci = dof_fetch_coc(p0 + d);
+      float own = dof_cover(ci >= 0.0 ? -d : d, abs(ci), pc.blades, pc.rotation);
+      float front_sharper = smoothstep(0.0, 1.0, c0 - ci) * smoothstep(0.0, 1.0, abs(c0) - abs(ci));
+      float w = dof_cover(d, R_g, pc.blades, pc.rotation) * mix(1.0, own, front_sharper);
+      s += w * dof_fetch_src(p0 + d);
+      ws += w;
+    }
+    out_c = mix(c_0, s / ws, smoothstep(0.25, 0.75, R_g));
+  }
+  for (uint k = 0u; k < 4u; ++k) C[k * n + i] = out_c[k];
+}

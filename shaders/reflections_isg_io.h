@@ -1,0 +1,49 @@
+#ifndef REFLECTIONS_ISG_IO_H
+#define REFLECTIONS_ISG_IO_H
+#include "isg_io.h"
+ISG_IO_BEGIN
+// One workgroup is one tile: a tile with no glossy pixel takes the cheap path (refl copied).
+#define REFL_TILE 16
+// Modes of pass reflections.isg.
+#define REFL_MODE_ISG 0u   // parameter search (eq. 4, 10-12) then gather (eq. 13, 14)
+#define REFL_MODE_BLUR 1u  // the naive alternative: a constant-width disk blur of refl
+// Pixels at most this rough are mirrors: refl.glossy = refl.
+#define REFL_MIN_ROUGHNESS 1e-4
+// Largest reflected-cone angle θ_max (radians): GGX's tail makes 2·θ_h reach 180° at alpha 1.
+#define REFL_MAX_THETA 1.3
+// cos θ_incident is clamped here (eq. 14 at grazing angles).
+#define REFL_MIN_COS 0.05
+struct ReflIsgPush {
+  uint width;
+  uint height;
+  uint grid_search;    // search samples = grid_search², concentric disk, rotated per pixel
+  uint grid_gather;    // gather samples = grid_gather²
+  uint has_position;   // 0: P from depth and the camera
+  uint has_roughness;  // 0: the preset roughness everywhere
+  uint mode;           // REFL_MODE_*
+  uint flags;          // bits: 1 search reach, 4 anisotropic, 8 misses in search, 16 masking
+  float roughness;     // preset roughness (where the channel is absent or overridden)
+  float tan_h_factor;  // sqrt(E / (1 − E)): tan θ_h = alpha · tan_h_factor holds a fraction E
+  float max_radius;    // footprint clamp, pixels
+  float blur_radius;   // REFL_MODE_BLUR radius, pixels
+  float a;             // eq. 10 weight of l² (l in units of scene_radius)
+  float b;             // eq. 10 weight of n²
+  float inv_sigma;     // 1 / σ of eq. 10
+  float inv_scene_radius;
+  float f_px;          // focal length in pixels: (height / 2) / tan(yfov / 2)
+  float eye_x;         // camera position, world
+  float eye_y;
+  float eye_z;
+  float r00;           // world-to-camera rotation, row-major (camera looks down −Z, +Y up)
+  float r01;
+  float r02;
+  float r10;
+  float r11;
+  float r12;
+  float r20;
+  float r21;
+  float r22;
+  float pad;
+};
+ISG_IO_END
+#endif

@@ -1,0 +1,92 @@
+// GLSL only: what every shadowmap_* pass shares. Before including, declare the buffers
+//   prm (ShadowmapParams p), geo (float geo[]), fg (float fg_in[]), smap (float smap[]).
+#ifndef SHADOWMAP_COMMON_H
+#define SHADOWMAP_COMMON_H
+
+vec3 sm_position(uint i) {
+  uint n = p.width * p.height;
+  if (p.has_position != 0u) return vec3(geo[i], geo[n + i], geo[2u * n + i]);
+  float z = geo[i];
+  float x = float(i % p.width) + 0.5, y = float(i / p.width) + 0.5;
+  vec3 c = vec3((x - 0.5 * float(p.width)) / p.f_px * z, -(y - 0.5 * float(p.height)) / p.f_px * z, -z);
+  mat3 rt = mat3(p.r0, p.r3, p.r6, p.r1, p.r4, p.r7, p.r2, p.r5, p.r8);  // R^T (columns)
+  return transpose(rt) * c + vec3(p.eye_x, p.eye_y, p.eye_z);
+}
+
+// Light space: (u, v) in map texels (texel centres at k + 0.5, row 0 at the top), planar depth.
+vec3 sm_project(vec3 P) {
+  float x = p.l00 * P.x + p.l01 * P.y + p.l02 * P.z + p.l03;
+  float y = p.l10 * P.x + p.l11 * P.y + p.l12 * P.z + p.l13;
+  float z = -(p.l20 * P.x + p.l21 * P.y + p.l22 * P.z + p.l23);
+  if (z <= 1e-6) return vec3(-1.0, -1.0, -1.0);
+  return vec3((x / (z * p.tan_x) * 0.5 + 0.5) * float(p.map_w),
+              (0.5 - y / (z * p.tan_y) * 0.5) * float(p.map_h), z);
+}
+
+bool sm_inside(vec3 q) {
+  return q.z > 0.0 && q.x >= 0.0 && q.y >= 0.0 && q.x < float(p.map_w) && q.y < float(p.map_h);
+}
+
+// Receiver plane: the gradient of 1/z over (u, v), from the screen neighbours on the same
+// surface (the one of each pair nearer in light depth); zero where there is none. z: the
+// smallest light-depth step to a neighbour, the receiver's own depth uncertainty (large where
+// P blends two surfaces at a silhouette), added to the bias.
+// back: the plane through the neighbours faces away from the light (seen from the camera's
+// side), where the contract keeps L.shadow (1 where key.direct vanishes).
+vec3 sm_receiver_plane(uvec2 px, vec3 q, vec3 P, out bool back) {
+  vec3 d[2];
+  vec3 t[2];
+  back = false;
+  int found = 0;
+  float spread = 1e30;
+  for (int axis = 0; axis < 2; ++axis) {
+    float best = 1e30;
+    vec3 bd = vec3(0.0), bt = vec3(0.0);
+    for (int s = -1; s <= 1; s += 2) {
+      ivec2 nb = ivec2(px) + (axis == 0 ? ivec2(s, 0) : ivec2(0, s));
+      if (nb.x < 0 || nb.y < 0 || nb.x >= int(p.width) || nb.y >= int(p.height)) continue;
+      uint j = uint(nb.y) * p.width + uint(nb.x);
+      if (fg_in[j] == 0.0) continue;
+      vec3 Pn = sm_position(j);
+      vec3 qn = sm_project(Pn);
+      if (qn.z <= 0.0) continue;
+      float dz = abs(qn.z - q.z);
+      if (dz < best) { best = dz; bd = vec3(qn.xy - q.xy, 1.0 / qn.z - 1.0 / q.z); bt = Pn - P; }
+    }
+    if (best < 1e30) { t[found] = bt; d[found++] = bd; }
+    spread = min(spread, best);
+  }
+  if (spread >= 1e30) spread = 0.0;
+  if (found < 2) return vec3(0.0, 0.0, spread);
+  if (p.has_camera != 0u) {
+    vec3 nrm = cross(t[0], t[1]);
+    if (dot(nrm, vec3(p.eye_x, p.eye_y, p.eye_z) - P) < 0.0) nrm = -nrm;
+    back = dot(nrm, vec3(p.light_x, p.light_y, p.light_z) - P) < 0.0;
+  }
+  float det = d[0].x * d[1].y - d[0].y * d[1].x;
+  if (abs(det) < 1e-8) return vec3(0.0, 0.0, spread);
+  return vec3(vec2(d[0].z * d[1].y - d[1].z * d[0].y, d[0].x * d[1].z - d[1].x * d[0].z) / det,
+              spread);
+}
+
+// The receiver's depth at texel centre c (receiver plane, slope clamped) minus the bias:
+// map depths below it are blockers.
+float sm_threshold(vec3 q, vec3 g, vec2 c, float texel_world) {
+  vec2 o = c - q.xy;
+  float iz = 1.0 / q.z + dot(g.xy, o);
+  float zc = iz > 0.0 ? 1.0 / iz : 1e30;
+  float lim = p.slope_max * texel_world * length(o);
+  zc = clamp(zc, q.z - lim, q.z + lim);
+  return zc - p.bias * texel_world - p.spread_bias * g.z;
+}
+
+float sm_fetch(vec2 c) {
+  return smap[uint(c.y) * p.map_w + uint(c.x)];
+}
+
+uint sm_hash(uint x, uint y) {
+  uint h = x * 0x8da6b343u ^ y * 0xd8163841u;
+  h ^= h >> 16; h *= 0x7feb352du; h ^= h >> 15; h *= 0x846ca68bu; h ^= h >> 16;
+  return h;
+}
+#endif

@@ -1,0 +1,36 @@
+#ifndef SHADOWMAP_IO_H
+#define SHADOWMAP_IO_H
+#include "isg_io.h"
+ISG_IO_BEGIN
+#define SHADOWMAP_LOCAL 16
+// Counters the shadow-map passes add to (atomics in the stats buffer).
+#define SHADOWMAP_STAT_PIXELS 0   // foreground pixels inside the map
+#define SHADOWMAP_STAT_SKIPPED 1  // of them: proven fully lit or in umbra, filter skipped
+#define SHADOWMAP_STAT_CLAMPED 2  // of them: kernel radius clamped to shadows.smap_max_radius
+#define SHADOWMAP_STATS 4
+// Soft shadows from the light's shadow map (shadows.method = pcss | vssm | cssm). Per light;
+// read by every shadowmap_* pass from a storage buffer (std430: scalars only, no padding).
+struct ShadowmapParams {
+  // Image and map sizes; geometry source: position (3 planes) or depth + the camera below.
+  uint width, height, map_w, map_h;
+  uint has_position, taps, rotate, has_camera;
+  // Light view: world_to_light rows 0-2 (row-major 3x4); tan of the half fields of view.
+  float l00, l01, l02, l03, l10, l11, l12, l13, l20, l21, l22, l23;
+  float tan_x, tan_y;
+  // Light radius (world), nearest blocker depth in the map (bounds the blocker search).
+  float light_radius, min_depth;
+  // Largest kernel radius (texels); constant depth bias in receiver texel footprints;
+  // the receiver-plane (slope) bias is clamped to slope_max receiver texel footprints;
+  // spread_bias: times the smallest light-depth step to a screen neighbour.
+  float max_radius, bias, slope_max, spread_bias;
+  // Camera (depth -> position): focal length in pixels, eye, world-to-camera rotation rows.
+  float f_px, eye_x, eye_y, eye_z;
+  float r0, r1, r2, r3, r4, r5, r6, r7, r8;
+  float light_x, light_y, light_z;  // the light's centre (world)
+};
+struct ShadowmapPush {
+  uint width;
+  uint height;
+};
+ISG_IO_END
+#endif

@@ -1,0 +1,235 @@
+#version 450
+// Pass shadows.isg (paper §3.1): per pixel, the parameter search over occluder distances (eq. 4
+// with the range function of eq. 6-7, radius R_p of eq. 5) then the gather over the shadow bits
+// (eq. 4 with radius R_g of eq. 8-9). lib/effects/shadows/isg.cpp mirrors every step in double.
+#extension GL_GOOGLE_include_directive : require
+#include "shadows_isg_io.h"
+layout(local_size_x = SHADOWS_ISG_TILE, local_size_y = SHADOWS_ISG_TILE) in;
+layout(std430, binding = 0) readonly buffer Shadow { float shadow_in[]; };
+layout(std430, binding = 1) readonly buffer Occluder { float occluder[]; };
+layout(std430, binding = 2) readonly buffer Geo { float geo[]; };  // P (3 planes) or Z
+layout(std430, binding = 3) readonly buffer Fg { float fg[]; };
+layout(std430, binding = 4) buffer Tiles { uint tiles[]; };
+layout(std430, binding = 5) writeonly buffer Soft { float soft[]; };
+layout(push_constant) uniform Push { ShadowsIsgPush pc; };
+
+const float PI = 3.14159265358979;
+shared uint s_rp;     // the tile's largest search radius (float bits)
+shared uint s_reach;  // OR of the flags of the tiles within reach
+shared uint s_dloc;   // the largest occluder distance of the tiles within reach (float bits)
+
+uint npix() { return pc.width * pc.height; }
+mat3 rot() {  // world -> camera; GLSL matrices are column-major
+  return mat3(pc.r00, pc.r10, pc.r20, pc.r01, pc.r11, pc.r21, pc.r02, pc.r12, pc.r22);
+}
+vec3 eye() { return vec3(pc.eye_x, pc.eye_y, pc.eye_z); }
+vec3 light() { return vec3(pc.light_x, pc.light_y, pc.light_z); }
+
+vec3 position_at(uint i) {
+  uint n = npix();
+  if (pc.has_position != 0u) return vec3(geo[i], geo[n + i], geo[2u * n + i]);
+  float z = geo[i];
+  float x = float(i % pc.width) + 0.5, y = float(i / pc.width) + 0.5;
+  vec3 c = vec3((x - 0.5 * float(pc.width)) / pc.f_px * z, -(y - 0.5 * float(pc.height)) / pc.f_px * z, -z);
+  return transpose(rot()) * c + eye();
+}
+
+// cos θ_i of the receiver at pixel p (normal from P's screen derivatives, one-sided next to a
+// silhouette), clamped to SHADOWS_ISG_MIN_COS.
+vec3 axis_diff(uvec2 p, vec3 P0, uvec2 e) {
+  uvec2 a = p - e, b = p + e;
+  bool ha = p.x >= e.x && p.y >= e.y && fg[a.y * pc.width + a.x] != 0.0;
+  bool hb = b.x < pc.width && b.y < pc.height && fg[b.y * pc.width + b.x] != 0.0;
+  vec3 f = hb ? position_at(b.y * pc.width + b.x) - P0 : vec3(0.0);
+  vec3 g = ha ? P0 - position_at(a.y * pc.width + a.x) : vec3(0.0);
+  if (ha && hb) {
+    float lf = length(f), lg = length(g);
+    if (max(lf, lg) < 2.0 * min(lf, lg)) return f + g;
+    return lf < lg ? f : g;
+  }
+  return ha ? g : f;
+}
+float cos_incidence(uvec2 p, vec3 P0, vec3 wl) {
+  vec3 n = cross(axis_diff(p, P0, uvec2(1u, 0u)), axis_diff(p, P0, uvec2(0u, 1u)));
+  float ln = length(n);
+  if (!(ln > 0.0)) return 1.0;
+  return max(abs(dot(n, wl)) / ln, SHADOWS_ISG_MIN_COS);
+}
+// The distance from p_0 in the penumbra's cross-section: dP projected along the light direction
+// wl onto the plane across the ray (sphere lights: the silhouette faces every receiver) or onto
+// the light's own plane (disk and rect lights).
+float across(vec3 dP, vec3 wl) {
+  if ((pc.flags & SHADOWS_ISG_ORIENTED) == 0u) return length(dP - dot(dP, wl) * wl);
+  vec3 n = vec3(pc.light_nx, pc.light_ny, pc.light_nz);
+  float c = dot(wl, n);
+  c = c < 0.0 ? min(c, -SHADOWS_ISG_MIN_COS) : max(c, SHADOWS_ISG_MIN_COS);
+  return length(dP - (dot(dP, n) / c) * wl);
+}
+
+uint pixel_hash(uint x, uint y) {
+  uint h = (x * 0x8da6b343u) ^ (y * 0xd8163841u);
+  h ^= h >> 16; h *= 0x7feb352du; h ^= h >> 15; h *= 0x846ca68bu; h ^= h >> 16;
+  return h;
+}
+// Shirley-Chiu concentric map of cell k of a grid x grid lattice onto the unit disk.
+vec2 concentric(uint k, uint grid) {
+  float a = 2.0 * (float(k % grid) + 0.5) / float(grid) - 1.0;
+  float b = 2.0 * (float(k / grid) + 0.5) / float(grid) - 1.0;
+  if (a == 0.0 && b == 0.0) return vec2(0.0);
+  float r, phi;
+  if (abs(a) > abs(b)) { r = a; phi = (PI / 4.0) * (b / a); }
+  else { r = b; phi = PI / 2.0 - (PI / 4.0) * (a / b); }
+  return r * vec2(cos(phi), sin(phi));
+}
+// Bilinear taps of q (pixel centres at +0.5); taps outside the image get weight 0.
+void taps(vec2 q, out uint t[4], out float bw[4]) {
+  vec2 x = q - 0.5;
+  vec2 x0 = floor(x);
+  vec2 f = x - x0;
+  int xa = int(x0.x), ya = int(x0.y);
+  float wx[2] = float[2](1.0 - f.x, f.x), wy[2] = float[2](1.0 - f.y, f.y);
+  for (int j = 0; j < 4; ++j) {
+    int xx = xa + (j & 1), yy = ya + (j >> 1);
+    bool in_img = xx >= 0 && yy >= 0 && xx < int(pc.width) && yy < int(pc.height);
+    t[j] = in_img ? uint(yy) * pc.width + uint(xx) : 0u;
+    bw[j] = in_img ? wx[j & 1] * wy[j >> 1] : 0.0;
+  }
+}
+// Eq. 6-7 without inShadow: a gaussian of the world distance l (scene_radius units).
+float range_l(float l) {
+  float u = l * pc.inv_scene_radius;
+  return exp(-u * u * pc.inv_sigma);
+}
+// Eq. 8: the penumbra radius R_s on the receiver for an occluder at d, the light at D.
+float penumbra(float d, float D) { return pc.light_size * d / max(D - d, SHADOWS_ISG_MIN_GAP * D); }
+
+void main() {
+  uvec2 p = gl_GlobalInvocationID.xy;
+  bool inside = p.x < pc.width && p.y < pc.height;
+  uint i = inside ? p.y * pc.width + p.x : 0u;
+  uint tiles_x = (pc.width + SHADOWS_ISG_TILE - 1u) / SHADOWS_ISG_TILE;
+  uint tiles_y = (pc.height + SHADOWS_ISG_TILE - 1u) / SHADOWS_ISG_TILE;
+  uint nt = tiles_x * tiles_y;
+  float d_max = uintBitsToFloat(tiles[3u * nt + SHADOWS_ISG_STAT_DMAX]);
+  if (gl_LocalInvocationIndex == 0u) {
+    s_rp = 0u;
+    s_reach = 0u;
+    s_dloc = 0u;
+  }
+  barrier();
+
+  // The reach of the widest penumbra in the image bounds the tiles to look at.
+  bool fg0 = inside && fg[i] != 0.0;
+  vec3 P0 = vec3(0.0);
+  float D = 0.0, pix = 1.0, Rp_raw = 0.0;
+  vec3 wl = vec3(0.0, 0.0, 1.0);
+  if (fg0) {
+    P0 = position_at(i);
+    float z = max(-(rot() * (P0 - eye())).z, 1e-6);
+    D = length(light() - P0);
+    wl = (light() - P0) / max(D, 1e-20);
+    // World size of a pixel at the receiver (Camera::pixel_size_at), shrunk by cos θ_i: the
+    // penumbra's stretch along the receiver.
+    pix = z / pc.f_px * cos_incidence(p, P0, wl);
+    Rp_raw = d_max > 0.0 ? penumbra(d_max, D) / pix : 0.0;
+    atomicMax(s_rp, floatBitsToUint(min(Rp_raw, pc.max_radius)));
+  }
+  barrier();
+  // The tiles the search and the gather can reach (radius + 1 for the bilinear taps).
+  int reach = int(ceil(uintBitsToFloat(s_rp))) + 1;
+  ivec2 t0 = ivec2(gl_WorkGroupID.xy) * SHADOWS_ISG_TILE;
+  ivec2 lo = max((t0 - reach) / SHADOWS_ISG_TILE, ivec2(0));
+  ivec2 hi = min((t0 + SHADOWS_ISG_TILE - 1 + reach) / SHADOWS_ISG_TILE, ivec2(tiles_x - 1u, tiles_y - 1u));
+  int span = hi.x - lo.x + 1, count = span * (hi.y - lo.y + 1);
+  for (int k = int(gl_LocalInvocationIndex); k < count; k += SHADOWS_ISG_TILE * SHADOWS_ISG_TILE) {
+    uint t = uint(lo.y + k / span) * tiles_x + uint(lo.x + k % span);
+    atomicOr(s_reach, tiles[t]);
+    atomicMax(s_dloc, tiles[nt + t]);
+  }
+  barrier();
+  bool cheap = (pc.flags & SHADOWS_ISG_TILE_SKIP) != 0u &&
+               s_reach != (SHADOWS_ISG_FLAG_LIT | SHADOWS_ISG_FLAG_SHADOW);
+  if (gl_LocalInvocationIndex == 0u) tiles[2u * nt + gl_WorkGroupID.y * tiles_x + gl_WorkGroupID.x] = cheap ? 1u : 0u;
+  if (!inside) return;
+  float s0 = shadow_in[i];
+  // Background is left untouched; the cheap path keeps the hard shadow.
+  if (!fg0 || cheap) {
+    soft[i] = s0;
+    return;
+  }
+  atomicAdd(tiles[3u * nt + SHADOWS_ISG_STAT_FULL], 1u);
+  // Eq. 5: the search radius R_p covers the widest penumbra the occluders around can cast.
+  float d_loc = uintBitsToFloat(s_dloc);
+  Rp_raw = d_loc > 0.0 ? penumbra(d_loc, D) / pix : 0.0;
+  bool clamped = Rp_raw > pc.max_radius;
+  float Rp = min(Rp_raw, pc.max_radius);
+  vec2 p0 = vec2(p) + 0.5;
+  float ang = (pc.flags & SHADOWS_ISG_ROTATE) != 0u ? float(pixel_hash(p.x, p.y)) * (2.0 * PI / 4294967296.0) : 0.0;
+  float ca = cos(ang), sa = sin(ang);
+
+  // Parameter search (eq. 4, 6, 7): occluder distances weighted by r = gaussian · inShadow,
+  // the centre tap included.
+  float o0 = occluder[i];
+  float sw = 0.0, swd = 0.0;
+  if (s0 < 1.0 && o0 > 0.0) {
+    sw = 1.0 - s0;
+    swd = sw * o0;
+  }
+  for (uint k = 0u; k < pc.grid_search * pc.grid_search; ++k) {
+    vec2 c = concentric(k, pc.grid_search);
+    vec2 q = p0 + Rp * vec2(ca * c.x - sa * c.y, sa * c.x + ca * c.y);
+    uint t[4];
+    float bw[4];
+    taps(q, t, bw);
+    for (int j = 0; j < 4; ++j) {
+      if (bw[j] == 0.0 || fg[t[j]] == 0.0) continue;
+      float st = shadow_in[t[j]], ot = occluder[t[j]];
+      if (!(st < 1.0 && ot > 0.0)) continue;
+      vec3 Pt = position_at(t[j]);
+      float l = length(Pt - P0);
+      float r = range_l(l) * (1.0 - st) * bw[j];
+      l = across(Pt - P0, wl);
+      if ((pc.flags & SHADOWS_ISG_SEARCH_REACH) != 0u) {
+        // PCSS's blocker test in image space: the occluder's own penumbra reaches p_0.
+        float Rt = penumbra(ot, length(light() - Pt));
+        r *= clamp((SHADOWS_ISG_REACH * Rt + pix - l) / pix, 0.0, 1.0);
+      }
+      sw += r;
+      swd += r * ot;
+    }
+  }
+  if (!(sw > 0.0)) {  // no occluder within reach: the hard shadow stands
+    soft[i] = s0;
+    if (clamped) atomicAdd(tiles[3u * nt + SHADOWS_ISG_STAT_CLAMPED], 1u);
+    return;
+  }
+  float d = swd / sw;
+  // Eq. 8-9: the penumbra radius R_s in the world, R_g in pixels at the receiver's depth.
+  float Rs = penumbra(d, D);
+  float Rg_raw = Rs / pix;
+  clamped = clamped || Rg_raw > pc.max_radius;
+  float Rg = min(Rg_raw, pc.max_radius);
+
+  // Gather (eq. 4) over the shadow bits: uniform over the points within R_s of p_0 across the
+  // light direction (a one-pixel ramp at the rim): on the receiver, the penumbra's footprint,
+  // stretched by 1 / cos θ_i; on grazing receivers the screen disk, which reaches far along the
+  // surface, is cut back to it. The gaussian of eq. 6 as range function.
+  float sum = s0, ws = 1.0;
+  for (uint k = 0u; k < pc.grid_gather * pc.grid_gather; ++k) {
+    vec2 c = concentric(k, pc.grid_gather);
+    vec2 q = p0 + Rg * vec2(ca * c.x - sa * c.y, sa * c.x + ca * c.y);
+    uint t[4];
+    float bw[4];
+    taps(q, t, bw);
+    for (int j = 0; j < 4; ++j) {
+      if (bw[j] == 0.0 || fg[t[j]] == 0.0) continue;
+      vec3 dP = position_at(t[j]) - P0;
+      float l = across(dP, wl);
+      float r = range_l(length(dP)) * clamp((Rs + 0.5 * pix - l) / pix, 0.0, 1.0) * bw[j];
+      sum += r * shadow_in[t[j]];
+      ws += r;
+    }
+  }
+  soft[i] = sum / ws;
+  if (clamped) atomicAdd(tiles[3u * nt + SHADOWS_ISG_STAT_CLAMPED], 1u);
+}

@@ -1,0 +1,65 @@
+#ifndef SHADOWS_ISG_IO_H
+#define SHADOWS_ISG_IO_H
+#include "isg_io.h"
+ISG_IO_BEGIN
+// One workgroup is one tile in both passes of method isg: shadows.isg.tiles classifies the
+// tiles, shadows.isg skips those with no shadow boundary within reach (L.softshadow = L.shadow).
+#define SHADOWS_ISG_TILE 16
+// The tiles buffer (uint): [0, nt) tile flags from shadows.isg.tiles (bit 0: a foreground pixel
+// with some light, bit 1: one with some shadow), [nt, 2nt) the tile's largest occluder distance
+// (float bits), [2nt, 3nt) 1 where shadows.isg took the cheap path, then the statistics at
+// 3nt + SHADOWS_ISG_STAT_*.
+#define SHADOWS_ISG_FLAG_LIT 1u
+#define SHADOWS_ISG_FLAG_SHADOW 2u
+#define SHADOWS_ISG_STAT_DMAX 0u     // the image's largest occluder distance (float bits)
+#define SHADOWS_ISG_STAT_CLAMPED 1u  // pixels whose search or gather radius exceeded max_radius
+#define SHADOWS_ISG_STAT_FULL 2u     // pixels that ran the search and gather
+#define SHADOWS_ISG_STATS 4u
+// D − d is kept above this fraction of D in eq. 8 (occluders next to the light).
+#define SHADOWS_ISG_MIN_GAP 0.05
+// The search's blocker test counts an occluded sample whose penumbra, this many times its
+// radius R_s (inner plus outer half), reaches p_0.
+#define SHADOWS_ISG_REACH 2.0
+// The penumbra lies on the receiver stretched by 1 / cos θ_i (θ_i between the receiver's normal,
+// from P's screen derivatives, and the light); the stretch is clamped here on grazing receivers.
+#define SHADOWS_ISG_MIN_COS 0.2
+// Flags of ShadowsIsgPush.flags.
+#define SHADOWS_ISG_ROTATE 1u       // rotate the sample grid per pixel (pixel hash)
+#define SHADOWS_ISG_SEARCH_REACH 2u // the search counts only occluders whose penumbra reaches p_0
+#define SHADOWS_ISG_TILE_SKIP 4u    // tiles with no shadow boundary within reach take the cheap path
+#define SHADOWS_ISG_ORIENTED 8u     // disk and rect lights: the penumbra's cross-section lies in
+                                    // the light's plane (light_n), not across the ray
+struct ShadowsIsgPush {
+  uint width;
+  uint height;
+  uint grid_search;    // search samples = grid_search², concentric disk, rotated per pixel
+  uint grid_gather;    // gather samples = grid_gather²
+  uint has_position;   // 0: P from depth and the camera
+  uint flags;          // SHADOWS_ISG_*
+  float light_size;    // L of eq. 5 and 8: the light's radius in world units
+  float inv_sigma;     // 1 / σ of eq. 6 (l in units of scene_radius)
+  float inv_scene_radius;
+  float max_radius;    // largest search and gather radius, pixels
+  float f_px;          // focal length in pixels: (height / 2) / tan(yfov / 2)
+  float light_x;       // the light's centre, world
+  float light_y;
+  float light_z;
+  float eye_x;         // camera position, world
+  float eye_y;
+  float eye_z;
+  float r00;           // world-to-camera rotation, row-major (camera looks down −Z, +Y up)
+  float r01;
+  float r02;
+  float r10;
+  float r11;
+  float r12;
+  float r20;
+  float r21;
+  float r22;
+  float light_nx;      // the light's normal (disk, rect)
+  float light_ny;
+  float light_nz;
+  float pad;
+};
+ISG_IO_END
+#endif
