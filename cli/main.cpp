@@ -453,7 +453,7 @@ int cmd_info(const Common& c, const std::string& input, bool as_json) {
   std::cout << "effects:\n";
   for (const auto& e : caps) {
     std::cout << "  " << std::left << std::setw(14) << e.effect
-              << (e.runs ? "can run" : "cannot run: " + e.why) << "\n";
+              << (e.runs ? (e.why.empty() ? "can run" : "can run: " + e.why) : "cannot run: " + e.why) << "\n";
   }
   return 0;
 }

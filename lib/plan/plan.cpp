@@ -63,11 +63,19 @@ std::vector<EffectStatus> capabilities(const io::Roles& roles, const io::Scene& 
   std::vector<EffectStatus> out;
   for (const auto& l : roles.lights) {
     EffectStatus st{"shadows[" + l + "]", false, "", ""};
-    std::string m = missing_of(roles, {"beauty", l + ".shadow", l + ".direct"});
     const io::Light* light = scene.light(l);
+    // Without L.shadow, a shadow map gives it (method isg, pass shadows.derive).
+    const bool map_usable = light && effects::shadowmap_unsupported(light, l).empty();
+    std::vector<std::string> need = {"beauty", l + ".direct"};
+    if (!map_usable) need.push_back(l + ".shadow");
+    std::string m = missing_of(roles, need);
     if (!m.empty()) st.why = "missing " + m;
     else if (light && light->type == io::LightType::point) st.why = "point light: hard shadows are right";
     else st.runs = true;
+    if (st.runs && !roles.has(l + ".shadow"))
+      st.why = "L.shadow and L.occluder from the shadow map (method isg only)";
+    else if (st.runs && !roles.has(l + ".occluder") && map_usable)
+      st.why = "L.occluder from the shadow map for method isg";
     out.push_back(st);
   }
   if (roles.lights.empty()) out.push_back({"shadows", false, "", "no light channels (L.shadow, L.direct)"});
@@ -125,8 +133,10 @@ Plan make_plan(const io::Roles& roles, const io::Scene& scene, const params::Par
     EffectStatus st{"shadows[" + l + "]", false, method, ""};
     const io::Light* light = scene.light(l);
     std::vector<std::string> absent;
+    // Method isg can take L.shadow from the light's shadow map; L.direct it cannot do without.
+    const bool map_usable = light && effects::shadowmap_unsupported(light, l).empty();
     for (const std::string& r : {l + ".shadow", l + ".direct"})
-      if (!roles.has(r)) absent.push_back(r);
+      if (!roles.has(r) && !(method == "isg" && map_usable && r == l + ".shadow")) absent.push_back(r);
     if (method == "none") {
       st.why = "shadows.method = none";
     } else if (!absent.empty()) {
@@ -139,10 +149,16 @@ Plan make_plan(const io::Roles& roles, const io::Scene& scene, const params::Par
       // radii into pixels, and the light's position and size.
       const io::Camera* cam = camera ? camera : (scene.camera ? &*scene.camera : nullptr);
       std::string why = effects::shadows_isg_unsupported(light);
-      if (why.empty() && !roles.has(l + ".occluder")) why = "missing channels for role " + l + ".occluder";
       if (why.empty() && !roles.has("position") && !roles.has("depth"))
         why = "missing channels for role position (or depth)";
       if (why.empty() && !cam) why = "no camera (scene file, or worldToCamera/worldToNDC in the header)";
+      // Without L.occluder (or L.shadow) the shadow map provides them (pass shadows.derive).
+      const bool derive = !roles.has(l + ".occluder") || !roles.has(l + ".shadow");
+      if (why.empty() && derive && !map_usable)
+        why = "missing channels for role " + l + ".occluder (and no usable shadow map: " +
+              effects::shadowmap_unsupported(light, l) + ")";
+      if (why.empty() && derive)
+        plan.derived[l] = effects::shadowmap_settings(*light, cam, p, "derive", height);
       st.runs = true;
       if (why.empty()) {
         plan.shadows[l] = effects::shadow_settings(*light, *cam, scene.scene_radius, p, height);
@@ -151,6 +167,7 @@ Plan make_plan(const io::Roles& roles, const io::Scene& scene, const params::Par
         // hard), and the status says why.
         st.method = "hard";
         st.why = "isg cannot run: " + why;
+        st.runs = roles.has(l + ".shadow");  // without L.shadow there is nothing to keep
       }
     } else if (method == "pcss") {
       // The shadow map and the receivers' positions (P, or Z through the camera); no
@@ -171,14 +188,29 @@ Plan make_plan(const io::Roles& roles, const io::Scene& scene, const params::Par
     if (!st.runs) continue;
     plan.soft_lights.push_back(l);
     const std::string sh = l + ".shadow", dir = l + ".direct", soft = l + ".softshadow";
-    need(sh, 1, true);
+    need(sh, 1, roles.has(sh));  // else shadows.derive writes it
     need(dir, 3, true);
     need(soft, 1, false);
     if (plan.shadows.count(l)) {
       const std::string occ = l + ".occluder", geo = roles.has("position") ? "position" : "depth";
       const std::string tiles = l + ".shadow.tiles";
-      need(occ, 1, true);
       need(geo, geo == "position" ? 3 : 1, true);
+      if (plan.derived.count(l)) {
+        // L.occluder (and L.shadow when the input has none) from the map, read by the run
+        // from its own EXR.
+        const std::string smap = l + ".shadowmap";
+        const auto& sm = light->shadowmap.value();
+        std::vector<std::string> writes = {occ};
+        if (!roles.has(sh)) {
+          need(sh, 1, false);
+          writes.push_back(sh);
+        }
+        need(occ, 1, false);
+        plan.resources.push_back({smap, 1, false, uint64_t(sm.width) * uint64_t(sm.height) * 4});
+        plan.passes.push_back({"shadows.derive", "shadows.derive[" + l + "]", {geo, "fg", smap},
+                               writes, l});
+      }
+      need(occ, 1, true);
       plan.resources.push_back({tiles, 1, false,
                                 uint64_t(effects::shadows_isg_tiles_words(uint32_t(width),
                                                                           uint32_t(height))) * 4});

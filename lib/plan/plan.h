@@ -51,6 +51,8 @@ struct Plan {
   std::map<std::string, effects::ShadowSettings> shadows;  // per light, where shadows.isg runs
   // Per light, where a shadow-map method (shadows.method = pcss) runs.
   std::map<std::string, effects::ShadowmapSettings> shadowmaps;
+  // Per light, where method isg takes L.occluder (and L.shadow when absent) from the shadow map.
+  std::map<std::string, effects::ShadowmapSettings> derived;
 
   const Resource* resource(const std::string& name) const;
   uint64_t gpu_bytes() const;

@@ -16,7 +16,11 @@ LoadedFrame plan_frame(const JobConfig& job, const std::string& input) {
   LoadedFrame f;
   f.input = input;
   auto header = io::read_exr_header(input, job.limits);
-  f.roles = io::resolve_roles(header.channel_names(), job.request, input);
+  // The scene file's lights, unless the caller named them.
+  io::RoleRequest req = job.request;
+  if (req.light_names.empty())
+    for (const auto& l : job.scene.lights) req.light_names.push_back(l.name);
+  f.roles = io::resolve_roles(header.channel_names(), req, input);
   for (const auto& [role, name] : job.request.overrides) {
     if (!io::is_known_role(role, f.roles.lights)) {
       auto how = job.request.override_how.find(role);

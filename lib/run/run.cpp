@@ -7,6 +7,7 @@
 #include "effects/composite/composite.h"
 #include "effects/dof/dof.h"
 #include "effects/reflections/reflections.h"
+#include "effects/shadows/derive.h"
 #include "effects/shadows/hard.h"
 #include "effects/shadows/isg.h"
 #include "effects/shadows/shadowmap.h"
@@ -61,6 +62,16 @@ Stats execute(gpu::Context& ctx, const plan::Plan& plan, const io::Roles& roles,
   std::unique_ptr<effects::ReflectionsPass> refl;
   gpu::Sequence seq(ctx);
   const io::RoleBinding* beauty = roles.get("beauty");
+  // A light's shadow map, read on the host from its own EXR into the plan's L.shadowmap.
+  auto upload_map = [](const effects::ShadowmapSettings& s, gpu::Buffer& mb) {
+    auto map = effects::load_shadowmap(s.file);
+    if (uint64_t(map.z.size()) * 4 != mb.size())
+      throw io::IoError(s.file.string() + ": shadow map is " + std::to_string(map.width) + "x" +
+                        std::to_string(map.height) + ", not the scene file's size");
+    mb.upload(std::span<const float>(map.z));
+    return map;
+  };
+  std::vector<std::unique_ptr<effects::ShadowmapDerivePass>> derive;
   for (const auto& p : plan.passes) {
     if (p.name == "foreground") {
       if (!foreground) foreground = std::make_unique<effects::ForegroundPass>(ctx);
@@ -79,16 +90,22 @@ Stats execute(gpu::Context& ctx, const plan::Plan& plan, const io::Roles& roles,
       // The light's shadow map: read on the host from its own EXR, uploaded into the plan's
       // L.shadowmap; reads = {L.shadow, position|depth, fg, L.shadowmap}.
       const auto& s = plan.shadowmaps.at(p.light);
-      const auto map = effects::load_shadowmap(s.file);
       gpu::Buffer& mb = buf.at(p.reads.at(3));
-      if (uint64_t(map.z.size()) * 4 != mb.size())
-        throw io::IoError(s.file.string() + ": shadow map is " + std::to_string(map.width) + "x" +
-                          std::to_string(map.height) + ", not the scene file's size");
-      mb.upload(std::span<const float>(map.z));
+      const auto map = upload_map(s, mb);
       auto& pass = smap_pass[p.light];
       pass = std::make_unique<effects::ShadowmapPass>(ctx, s, map, w, h, p.reads.at(1) == "position");
       pass->record(seq, buf.at(p.reads.at(1)), buf.at(p.reads.at(2)), buf.at(p.reads.at(0)), mb,
                    buf.at(p.writes.at(0)), p.label);
+    } else if (p.name == "shadows.derive") {
+      // reads = {position|depth, fg, L.shadowmap}; writes = {L.occluder[, L.shadow]}.
+      gpu::Buffer& mb = buf.at(p.reads.at(2));
+      const auto map = upload_map(plan.derived.at(p.light), mb);
+      derive.push_back(std::make_unique<effects::ShadowmapDerivePass>(
+          ctx, plan.derived.at(p.light), map, w, h, p.reads.at(0) == "position"));
+      const bool write_shadow = p.writes.size() > 1;
+      derive.back()->record(seq, buf.at(p.reads.at(0)), buf.at(p.reads.at(1)), mb,
+                            buf.at(write_shadow ? p.writes.at(1) : p.light + ".shadow"),
+                            write_shadow, buf.at(p.writes.at(0)), p.label);
     } else if (p.name == "composite_term") {
       if (!term) term = std::make_unique<effects::CompositeTermPass>(ctx);
       const auto& X = buf.at(p.reads.at(2));

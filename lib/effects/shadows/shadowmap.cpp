@@ -277,18 +277,16 @@ struct ShadowmapPass::Impl {
         w(w_), h(h_) {}
 };
 
-ShadowmapPass::ShadowmapPass(gpu::Context& ctx, const ShadowmapSettings& s,
-                             const ShadowmapData& map, uint32_t w, uint32_t h, bool has_position)
-    : impl_(std::make_unique<Impl>(ctx, w, h)) {
-  if (s.method != "pcss") throw std::logic_error("shadow-map method " + s.method + " not built");
-  const auto taps = shadowmap_taps(s.taps, s.pattern);
+shaders::ShadowmapParams shadowmap_params(const ShadowmapSettings& s, const ShadowmapData& map,
+                                          uint32_t w, uint32_t h, bool has_position,
+                                          uint32_t taps) {
   shaders::ShadowmapParams p{};
   p.width = w;
   p.height = h;
   p.map_w = uint32_t(map.width);
   p.map_h = uint32_t(map.height);
   p.has_position = has_position ? 1u : 0u;
-  p.taps = uint32_t(taps.size() / 2);
+  p.taps = taps;
   p.rotate = s.rotate ? 1u : 0u;
   const auto& m = s.world_to_light;
   float* L[12] = {&p.l00, &p.l01, &p.l02, &p.l03, &p.l10, &p.l11, &p.l12, &p.l13,
@@ -316,6 +314,16 @@ ShadowmapPass::ShadowmapPass(gpu::Context& ctx, const ShadowmapSettings& s,
   p.eye_z = float(s.eye[2]);
   float* R[9] = {&p.r0, &p.r1, &p.r2, &p.r3, &p.r4, &p.r5, &p.r6, &p.r7, &p.r8};
   for (int k = 0; k < 9; ++k) *R[k] = float(s.rot[size_t(k)]);
+  return p;
+}
+
+ShadowmapPass::ShadowmapPass(gpu::Context& ctx, const ShadowmapSettings& s,
+                             const ShadowmapData& map, uint32_t w, uint32_t h, bool has_position)
+    : impl_(std::make_unique<Impl>(ctx, w, h)) {
+  if (s.method != "pcss") throw std::logic_error("shadow-map method " + s.method + " not built");
+  const auto taps = shadowmap_taps(s.taps, s.pattern);
+  const shaders::ShadowmapParams p =
+      shadowmap_params(s, map, w, h, has_position, uint32_t(taps.size() / 2));
   impl_->params = gpu::Buffer(ctx, sizeof(p), "shadowmap.params");
   impl_->params.upload(&p, sizeof(p));
   impl_->taps = gpu::Buffer(ctx, taps.size() * sizeof(float), "shadowmap.taps");
@@ -345,6 +353,41 @@ ShadowmapStats ShadowmapPass::stats() const {
   s.skipped = v[SHADOWMAP_STAT_SKIPPED];
   s.clamped = v[SHADOWMAP_STAT_CLAMPED];
   return s;
+}
+
+DerivedShadow shadowmap_derive_reference(const ShadowmapInputs& in, const ShadowmapData& map,
+                                         const ShadowmapSettings& s) {
+  Geom G(in, map, s);
+  DerivedShadow out{std::vector<float>(G.n, 1.0f), std::vector<float>(G.n, 0.0f)};
+  for (int py = 0; py < in.h; ++py) {
+    for (int px = 0; px < in.w; ++px) {
+      const size_t i = size_t(py) * in.w + px;
+      if (in.fg[i] == 0.0f) continue;
+      const V3 P = G.position(i), q = G.project(P);
+      if (!G.inside(q)) continue;
+      bool back = false;
+      const V3 g = G.receiver_plane(px, py, q, P, back);
+      if (back) continue;  // L.shadow 1 where key.direct vanishes (contract)
+      const double texel_world = 2.0 * q[2] * G.tan_y / map.height;
+      const double cx = std::floor(q[0]) + 0.5, cy = std::floor(q[1]) + 0.5;
+      out.shadow[i] = G.fetch(cx, cy) >= G.threshold(q, g, cx, cy, texel_world) ? 1.0f : 0.0f;
+      double zb = -1.0;
+      for (int dy = -1; dy <= 1; ++dy)
+        for (int dx = -1; dx <= 1; ++dx) {
+          const double x = cx + dx, y = cy + dy;
+          if (!G.in_map(x, y)) continue;
+          const double zm = G.fetch(x, y);
+          if (zm < G.threshold(q, g, x, y, texel_world)) zb = std::max(zb, zm);
+        }
+      if (zb > 0.0) {
+        const double d = std::sqrt((P[0] - G.light_pos[0]) * (P[0] - G.light_pos[0]) +
+                                   (P[1] - G.light_pos[1]) * (P[1] - G.light_pos[1]) +
+                                   (P[2] - G.light_pos[2]) * (P[2] - G.light_pos[2]));
+        out.occluder[i] = float(d * (q[2] - zb) / q[2]);
+      }
+    }
+  }
+  return out;
 }
 
 }  // namespace isg::effects

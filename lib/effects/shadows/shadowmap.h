@@ -13,6 +13,7 @@
 #include "gpu/gpu.h"
 #include "io/scene.h"
 #include "params/params.h"
+#include "shadowmap_io.h"
 
 namespace isg::effects {
 
@@ -75,6 +76,21 @@ struct ShadowmapStats {
 // Double-precision PCSS, the same taps and decisions as the GPU pass.
 std::vector<float> pcss_reference(const ShadowmapInputs& in, const ShadowmapData& map,
                                   const ShadowmapSettings& s, ShadowmapStats* stats = nullptr);
+
+// The parameters every shadowmap_* pass reads (shaders/shadowmap_io.h); `taps`: tap count.
+shaders::ShadowmapParams shadowmap_params(const ShadowmapSettings& s, const ShadowmapData& map,
+                                          uint32_t w, uint32_t h, bool has_position,
+                                          uint32_t taps);
+
+// Pass shadows.derive (shaders/shadowmap_derive.comp), double precision: L.shadow (the hard
+// test at the receiver's texel, the filtering passes' bias) and L.occluder (distance from P to
+// the nearest blocker among the 3×3 texels around, along the ray to the light's centre) from
+// the shadow map, for method isg when the renderer wrote no occluder distances.
+struct DerivedShadow {
+  std::vector<float> shadow, occluder;
+};
+DerivedShadow shadowmap_derive_reference(const ShadowmapInputs& in, const ShadowmapData& map,
+                                         const ShadowmapSettings& s);
 
 
 // The GPU pass of one light: owns its kernel, parameters, taps and counters; the map is the
