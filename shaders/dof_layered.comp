@@ -47,6 +47,9 @@ void main() {
       float dens = a_s / max(K * ci * ci, a_s);
       float behind = smoothstep(0.0, 1.0, ci - c0) * (1.0 - m0);
       float r_far = mix(abs(ci), min(abs(ci), max(c0, 0.0)), behind);
+      // Seen from inside a blurred near object's edge, the lens looks past it at the far field
+      // within p0's own CoC (partial occlusion): far samples that near reach p0.
+      r_far = max(r_far, m0 * max(-c0, 0.0));
       // In-focus samples (CoC under half a pixel) are the centre pixel's business, not the ring's.
       float wf = (1.0 - mi) * dof_cover(v, r_far, pc.blades, pc.rotation) * dens *
                  smoothstep(0.25, 0.75, r_far);

@@ -130,7 +130,7 @@ Scene dof(int frame) {
   b.s.name = "dof";
   b.s.depth_of_field = true;
   b.floor(40.0, b.material(diffuse({0.5, 0.5, 0.5})));
-  b.sphere("fore", {-0.35, -4.2, 0.75}, 0.15, b.material(diffuse({0.8, 0.25, 0.2})));
+  b.sphere("fore", {-0.22, -4.2, 0.75}, 0.15, b.material(diffuse({0.8, 0.25, 0.2})));
   b.sphere("focus", {0.1 + 0.03 * frame, 0.0, 0.5}, 0.5, b.material(diffuse({0.3, 0.7, 0.35})));
   b.box("focus_box", {1.0, 0.3, 0.4}, {0.5, 0.5, 0.8}, b.material(diffuse({0.3, 0.4, 0.8})));
   b.box("back", {-1.5, 9.0, 1.5}, {3, 1, 3}, b.material(diffuse({0.75, 0.7, 0.55})));

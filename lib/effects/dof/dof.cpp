@@ -318,7 +318,10 @@ std::vector<float> dof_layered_reference(const std::vector<float>& rgba,
         const double dens = a_s / std::max(K * ci * ci, a_s);
         // Far-field occlusion (eq. 17 mirrored): behind p0 it spreads no further than p0's CoC.
         const double behind = smoothstep(0, 1, ci - c0) * (1 - m0);
-        const double r_far = std::abs(ci) * (1 - behind) + std::min(std::abs(ci), std::max(c0, 0.0)) * behind;
+        double r_far = std::abs(ci) * (1 - behind) + std::min(std::abs(ci), std::max(c0, 0.0)) * behind;
+        // Seen from inside a blurred near object's edge, the lens looks past it at the far
+        // field within p0's own CoC (partial occlusion): far samples that near reach p0.
+        r_far = std::max(r_far, m0 * std::max(-c0, 0.0));
         // In-focus samples (CoC under half a pixel) are the centre pixel's, not the ring's.
         const double wf = (1 - mi) * ap.cover(v, r_far) * dens * smoothstep(0.25, 0.75, r_far);
         const double wn = mi * ap.cover(v, std::abs(ci)) * dens;
