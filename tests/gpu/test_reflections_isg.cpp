@@ -466,3 +466,81 @@ TEST_F(GpuTest, ReflectionsSynthGloss) {
   EXPECT_LT(errs[1], 0.5 * errs[0]);
   EXPECT_LT(errs[1], errs[2]);
 }
+
+namespace {
+
+// isg-synth gloss at 160 x 90 (64-sample GGX reference), generated once per test binary.
+const std::filesystem::path& synth_gloss_dir() {
+  static const std::filesystem::path dir = [] {
+    auto d = isg::test::temp_dir("refl-synth-gloss-shared");
+    isg::synth::Options o;
+    o.scene = "gloss";
+    o.width = 160;
+    o.height = 90;
+    o.ref_spp = 64;
+    o.threads = 2;
+    o.shadowmap_size = 64;
+    isg::synth::generate(o, d);
+    return d;
+  }();
+  return dir;
+}
+
+// RMSE of refl.glossy (method isg, `search` x `gather` samples) against the reference over its
+// mask; the whole scene (P and the camera) moved by `offset` world units first.
+double synth_gloss_error(isg::gpu::Context& ctx, int search, int gather, double offset) {
+  const auto& dir = synth_gloss_dir();
+  const auto ref = isg::io::read_exr(dir / "ref" / "glossy.exr");
+  const auto& mask = ref.find("mask")->data;
+  auto input = dir / "aovs.exr";
+  isg::run::JobConfig job{isg::io::read_scene(dir / "scene.json"), "", fx::default_params()};
+  if (offset != 0.0) {
+    auto aovs = isg::io::read_exr(input);
+    for (const char* c : {"P.X", "P.Y", "P.Z"})
+      for (float& v : aovs.find(c)->data) v = float(double(v) + offset);
+    input = dir / ("aovs_offset_" + std::to_string(int(offset)) + ".exr");
+    isg::io::write_exr(input, aovs, {});
+    // p_cam = R (p − e): moving e by t subtracts R t from the translation column.
+    auto& m = job.scene.camera->world_to_camera;
+    for (int r = 0; r < 3; ++r) m[size_t(r * 4 + 3)] -= (m[size_t(r * 4)] + m[size_t(r * 4 + 1)] + m[size_t(r * 4 + 2)]) * offset;
+  }
+  job.params.set_text("reflections.method", "isg", "test");
+  job.params.set_text("reflections.search_samples", std::to_string(search), "test");
+  job.params.set_text("reflections.gather_samples", std::to_string(gather), "test");
+  auto f = isg::run::load_frame(job, input.string());
+  isg::run::process_frame(ctx, job, f);
+  double s = 0;
+  size_t k = 0;
+  for (const char* c : {"R", "G", "B"}) {
+    const auto& x = f.img.find(std::string("refl.glossy.") + c)->data;
+    const auto& y = ref.find(std::string("refl.glossy.") + c)->data;
+    for (size_t i = 0; i < mask.size(); ++i) {
+      if (mask[i] < 0.5f) continue;
+      s += (double(x[i]) - double(y[i])) * (double(x[i]) - double(y[i]));
+      ++k;
+    }
+  }
+  return std::sqrt(s / double(k));
+}
+
+}  // namespace
+
+TEST_F(GpuTest, ReflectionsSynthGlossErrorFallsAsSamplesGrow) {
+  double prev = 1e9;
+  for (int n : {9, 25, 81}) {
+    const double e = synth_gloss_error(ctx(), n, n, 0.0);
+    std::printf("synth gloss %d x %d samples: refl.glossy RMSE %.5f\n", n, n, e);
+    EXPECT_LT(e, prev * 1.02) << n;
+    prev = e;
+  }
+}
+
+// The gloss scene 1e5 units from the origin (P stored as float there, as a renderer would):
+// the same error within 5%.
+TEST_F(GpuTest, ReflectionsSynthGlossFarFromTheOrigin) {
+  const double near = synth_gloss_error(ctx(), 25, 49, 0.0);
+  const double far = synth_gloss_error(ctx(), 25, 49, 1e5);
+  std::printf("synth gloss refl.glossy RMSE: at the origin %.5f, moved by 1e5 %.5f\n", near, far);
+  EXPECT_LT(near, 0.021);  // measured 0.0177 at 160 x 90, 25 x 49 samples (sharp refl: 0.0516)
+  EXPECT_NEAR(far, near, 0.05 * near);
+}
