@@ -3,25 +3,9 @@
 #ifndef DOF_COMMON_H
 #define DOF_COMMON_H
 #include "dof_io.h"
+#include "isg_sampling.h"
 const float DOF_PI = 3.14159265358979;
 
-// Per-pixel rotation of the sample grid: an integer hash of the pixel (frame-independent).
-uint dof_hash(uint x, uint y) {
-  uint h = (x * 0x8da6b343u) ^ (y * 0xd8163841u);
-  h ^= h >> 16; h *= 0x7feb352du; h ^= h >> 15; h *= 0x846ca68bu; h ^= h >> 16;
-  return h;
-}
-
-// Shirley-Chiu concentric map of cell k of a grid x grid lattice onto the unit disk.
-vec2 dof_concentric(uint k, uint grid) {
-  float a = 2.0 * (float(k % grid) + 0.5) / float(grid) - 1.0;
-  float b = 2.0 * (float(k / grid) + 0.5) / float(grid) - 1.0;
-  if (a == 0.0 && b == 0.0) return vec2(0.0);
-  float r, phi;
-  if (abs(a) > abs(b)) { r = a; phi = (DOF_PI / 4.0) * (b / a); }
-  else { r = b; phi = DOF_PI / 2.0 - (DOF_PI / 4.0) * (a / b); }
-  return r * vec2(cos(phi), sin(phi));
-}
 
 // Aperture "norm": |v| for a disk, |v| / rho(angle) for an n-gon of circumradius 1, so a point
 // lies inside the aperture of radius r when dof_norm(v) <= r.
@@ -90,7 +74,7 @@ vec4 dof_cheap(uvec2 p, float c0, float rot_angle) {
   vec4 s = c_0;
   float ws = 1.0;
   for (uint k = 0u; k < pc.grid * pc.grid; ++k) {
-    vec2 d = r * (rot * dof_concentric(k, pc.grid));
+    vec2 d = r * (rot * isg_concentric(k, pc.grid));
     float w = dof_cover(d, r, pc.blades, pc.rotation);
     s += w * dof_fetch_src(p0 + d);
     ws += w;
@@ -98,5 +82,4 @@ vec4 dof_cheap(uvec2 p, float c0, float rot_angle) {
   return mix(c_0, s / ws, smoothstep(0.25, 0.75, r));
 }
 #endif
-float dof_pixel_angle(uvec2 p) { return float(dof_hash(p.x, p.y)) * (2.0 * DOF_PI / 4294967296.0); }
 #endif

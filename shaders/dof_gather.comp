@@ -22,7 +22,7 @@ void main() {
   uint i = p.y * pc.width + p.x;
   float c0 = coc_buf[i];
   uint t = 4u * ((p.y / DOF_TILE) * pc.tiles_x + p.x / DOF_TILE);
-  float a = dof_pixel_angle(p);
+  float a = isg_pixel_angle(p);
   vec4 out_c;
   if (tiles[t + 3u] != 0.0) {
     out_c = dof_cheap(p, c0, a);
@@ -34,7 +34,7 @@ void main() {
     vec4 s = c_0;
     float ws = 1.0;
     for (uint k = 0u; k < pc.grid * pc.grid; ++k) {
-      vec2 d = R_g * (rot * dof_concentric(k, pc.grid));
+      vec2 d = R_g * (rot * isg_concentric(k, pc.grid));
       float ci = dof_fetch_coc(p0 + d);
       float own = dof_cover(ci >= 0.0 ? -d : d, abs(ci), pc.blades, pc.rotation);
       float front_sharper = smoothstep(0.0, 1.0, c0 - ci) * smoothstep(0.0, 1.0, abs(c0) - abs(ci));

@@ -24,7 +24,7 @@ void main() {
   uint i = p.y * pc.width + p.x;
   float c0 = coc_buf[i];
   uint t = 4u * ((p.y / DOF_TILE) * pc.tiles_x + p.x / DOF_TILE);
-  float a = dof_pixel_angle(p);
+  float a = isg_pixel_angle(p);
   vec4 out_c;
   if (tiles[t + 3u] != 0.0) {
     out_c = dof_cheap(p, c0, a);
@@ -40,7 +40,7 @@ void main() {
     vec4 Sn = m0 * w0 * c_0, Sf = (1.0 - m0) * w0 * c_0;
     float Wn = m0 * w0, Wf = (1.0 - m0) * w0;
     for (uint k = 0u; k < pc.grid * pc.grid; ++k) {
-      vec2 d = R * (rot * dof_concentric(k, pc.grid));
+      vec2 d = R * (rot * isg_concentric(k, pc.grid));
       float ci = dof_fetch_coc(p0 + d);
       vec2 v = ci >= 0.0 ? -d : d;
       float mi = smoothstep(0.5, 1.5, -ci);

@@ -21,12 +21,12 @@ void main() {
   uint t = 4u * ((p.y / DOF_TILE) * pc.tiles_x + p.x / DOF_TILE);
   if (tiles[t + 3u] != 0.0) { radius[i] = abs(c0); return; }
   float R_s = max(tiles[t + 2u], 0.5);  // the farthest any CoC reaching this tile spreads
-  float a = dof_pixel_angle(p);
+  float a = isg_pixel_angle(p);
   mat2 rot = mat2(cos(a), sin(a), -sin(a), cos(a));
   vec2 p0 = vec2(p) + 0.5;
   float sw = 1.0, sv = abs(c0);
   for (uint k = 0u; k < pc.grid * pc.grid; ++k) {
-    vec2 d = R_s * (rot * dof_concentric(k, pc.grid));
+    vec2 d = R_s * (rot * isg_concentric(k, pc.grid));
     float ci = dof_fetch_coc(p0 + d);
     // The aperture image is upright behind the focal plane and inverted in front of it.
     float reach = dof_cover(ci >= 0.0 ? -d : d, abs(ci), pc.blades, pc.rotation);

@@ -5,6 +5,7 @@
 // every step in double.
 #extension GL_GOOGLE_include_directive : require
 #include "reflections_isg_io.h"
+#include "isg_sampling.h"
 layout(local_size_x = REFL_TILE, local_size_y = REFL_TILE) in;
 layout(std430, binding = 0) readonly buffer Refl { float refl[]; };
 layout(std430, binding = 1) readonly buffer Dist { float dist[]; };
@@ -65,22 +66,6 @@ vec2 project(vec3 w) {
   return vec2(0.5 * float(pc.width) + pc.f_px * c.x / z, 0.5 * float(pc.height) - pc.f_px * c.y / z);
 }
 
-// Per-pixel rotation of the sample grid: an integer hash of the pixel.
-uint pixel_hash(uint x, uint y) {
-  uint h = (x * 0x8da6b343u) ^ (y * 0xd8163841u);
-  h ^= h >> 16; h *= 0x7feb352du; h ^= h >> 15; h *= 0x846ca68bu; h ^= h >> 16;
-  return h;
-}
-// Shirley-Chiu concentric map of cell k of a grid x grid lattice onto the unit disk.
-vec2 concentric(uint k, uint grid) {
-  float a = 2.0 * (float(k % grid) + 0.5) / float(grid) - 1.0;
-  float b = 2.0 * (float(k / grid) + 0.5) / float(grid) - 1.0;
-  if (a == 0.0 && b == 0.0) return vec2(0.0);
-  float r, phi;
-  if (abs(a) > abs(b)) { r = a; phi = (PI / 4.0) * (b / a); }
-  else { r = b; phi = PI / 2.0 - (PI / 4.0) * (a / b); }
-  return r * vec2(cos(phi), sin(phi));
-}
 
 // Bilinear taps of position q (pixel centres at +0.5), clamped to the image.
 void taps(vec2 q, out uint t[4], out float bw[4]) {
@@ -104,12 +89,12 @@ float range_fn(uint j, vec3 P0, vec3 N0) {
 
 vec3 refl_blur(uvec2 p, uint i) {
   vec2 p0 = vec2(p) + 0.5;
-  float ang = float(pixel_hash(p.x, p.y)) * (2.0 * PI / 4294967296.0);
+  float ang = isg_pixel_angle(p);
   mat2 R = mat2(cos(ang), sin(ang), -sin(ang), cos(ang));
   vec3 s = refl_at(i);
   float ws = 1.0;
   for (uint k = 0u; k < pc.grid_gather * pc.grid_gather; ++k) {
-    vec2 q = p0 + pc.blur_radius * (R * concentric(k, pc.grid_gather));
+    vec2 q = p0 + pc.blur_radius * (R * isg_concentric(k, pc.grid_gather));
     uint t[4]; float bw[4];
     taps(q, t, bw);
     for (int j = 0; j < 4; ++j) {
@@ -143,7 +128,7 @@ vec3 refl_isg(uvec2 p, uint i) {
   }
   vec2 d_min = vec2(-d_maj.y, d_maj.x);
   float maj = (pc.flags & 4u) != 0u ? 1.0 : cos_i;
-  float ang = float(pixel_hash(p.x, p.y)) * (2.0 * PI / 4294967296.0);
+  float ang = isg_pixel_angle(p);
   mat2 Rot = mat2(cos(ang), sin(ang), -sin(ang), cos(ang));
 
   // Parameter search (eq. 4, constant spatial weight, eq. 10 range) over t = E/(e+E), the
@@ -153,7 +138,7 @@ vec3 refl_isg(uvec2 p, uint i) {
   float sw = 1.0;
   if (d0 <= 0.0 && (pc.flags & 8u) == 0u) { st = 0.0; sw = 0.0; }
   for (uint k = 0u; k < pc.grid_search * pc.grid_search; ++k) {
-    vec2 u = Rot * concentric(k, pc.grid_search);
+    vec2 u = Rot * isg_concentric(k, pc.grid_search);
     vec2 q = p0 + R_p * (u.x * maj * d_maj + u.y * minor * d_min);
     uint t[4]; float bw[4];
     taps(q, t, bw);
@@ -191,7 +176,7 @@ vec3 refl_isg(uvec2 p, uint i) {
   vec3 s = c0;
   float ws = 1.0;
   for (uint k = 0u; k < pc.grid_gather * pc.grid_gather; ++k) {
-    vec2 c = concentric(k, pc.grid_gather);
+    vec2 c = isg_concentric(k, pc.grid_gather);
     float rho_u = length(c);
     float xi = xi_max * rho_u * rho_u;
     float th = atan(alpha * sqrt(xi / (1.0 - xi)));

@@ -2,6 +2,7 @@
 //   prm (ShadowmapParams p), geo (float geo[]), fg (float fg_in[]), smap (float smap[]).
 #ifndef SHADOWMAP_COMMON_H
 #define SHADOWMAP_COMMON_H
+#include "isg_sampling.h"
 
 vec3 sm_position(uint i) {
   uint n = p.width * p.height;
@@ -84,9 +85,4 @@ float sm_fetch(vec2 c) {
   return smap[uint(c.y) * p.map_w + uint(c.x)];
 }
 
-uint sm_hash(uint x, uint y) {
-  uint h = x * 0x8da6b343u ^ y * 0xd8163841u;
-  h ^= h >> 16; h *= 0x7feb352du; h ^= h >> 15; h *= 0x846ca68bu; h ^= h >> 16;
-  return h;
-}
 #endif

@@ -4,6 +4,7 @@
 // (eq. 4 with radius R_g of eq. 8-9). lib/effects/shadows/isg.cpp mirrors every step in double.
 #extension GL_GOOGLE_include_directive : require
 #include "shadows_isg_io.h"
+#include "isg_sampling.h"
 layout(local_size_x = SHADOWS_ISG_TILE, local_size_y = SHADOWS_ISG_TILE) in;
 layout(std430, binding = 0) readonly buffer Shadow { float shadow_in[]; };
 layout(std430, binding = 1) readonly buffer Occluder { float occluder[]; };
@@ -66,21 +67,6 @@ float across(vec3 dP, vec3 wl) {
   return length(dP - (dot(dP, n) / c) * wl);
 }
 
-uint pixel_hash(uint x, uint y) {
-  uint h = (x * 0x8da6b343u) ^ (y * 0xd8163841u);
-  h ^= h >> 16; h *= 0x7feb352du; h ^= h >> 15; h *= 0x846ca68bu; h ^= h >> 16;
-  return h;
-}
-// Shirley-Chiu concentric map of cell k of a grid x grid lattice onto the unit disk.
-vec2 concentric(uint k, uint grid) {
-  float a = 2.0 * (float(k % grid) + 0.5) / float(grid) - 1.0;
-  float b = 2.0 * (float(k / grid) + 0.5) / float(grid) - 1.0;
-  if (a == 0.0 && b == 0.0) return vec2(0.0);
-  float r, phi;
-  if (abs(a) > abs(b)) { r = a; phi = (PI / 4.0) * (b / a); }
-  else { r = b; phi = PI / 2.0 - (PI / 4.0) * (a / b); }
-  return r * vec2(cos(phi), sin(phi));
-}
 // Bilinear taps of q (pixel centres at +0.5); taps outside the image get weight 0.
 void taps(vec2 q, out uint t[4], out float bw[4]) {
   vec2 x = q - 0.5;
@@ -164,7 +150,7 @@ void main() {
   bool clamped = Rp_raw > pc.max_radius;
   float Rp = min(Rp_raw, pc.max_radius);
   vec2 p0 = vec2(p) + 0.5;
-  float ang = (pc.flags & SHADOWS_ISG_ROTATE) != 0u ? float(pixel_hash(p.x, p.y)) * (2.0 * PI / 4294967296.0) : 0.0;
+  float ang = (pc.flags & SHADOWS_ISG_ROTATE) != 0u ? isg_pixel_angle(p) : 0.0;
   float ca = cos(ang), sa = sin(ang);
 
   // Parameter search (eq. 4, 6, 7): occluder distances weighted by r = gaussian · inShadow,
@@ -176,7 +162,7 @@ void main() {
     swd = sw * o0;
   }
   for (uint k = 0u; k < pc.grid_search * pc.grid_search; ++k) {
-    vec2 c = concentric(k, pc.grid_search);
+    vec2 c = isg_concentric(k, pc.grid_search);
     vec2 q = p0 + Rp * vec2(ca * c.x - sa * c.y, sa * c.x + ca * c.y);
     uint t[4];
     float bw[4];
@@ -216,7 +202,7 @@ void main() {
   // surface, is cut back to it. The gaussian of eq. 6 as range function.
   float sum = s0, ws = 1.0;
   for (uint k = 0u; k < pc.grid_gather * pc.grid_gather; ++k) {
-    vec2 c = concentric(k, pc.grid_gather);
+    vec2 c = isg_concentric(k, pc.grid_gather);
     vec2 q = p0 + Rg * vec2(ca * c.x - sa * c.y, sa * c.x + ca * c.y);
     uint t[4];
     float bw[4];

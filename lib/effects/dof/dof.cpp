@@ -6,6 +6,7 @@
 #include <numbers>
 #include <stdexcept>
 
+#include "effects/sampling.h"
 #include "dof_coc_io.h"
 #include "dof_gather_io.h"
 #include "dof_layered_io.h"
@@ -69,21 +70,7 @@ double smoothstep(double e0, double e1, double x) {
 }
 
 // The mirrors of dof_common.h, in double.
-uint32_t pixel_hash(uint32_t x, uint32_t y) {
-  uint32_t h = (x * 0x8da6b343u) ^ (y * 0xd8163841u);
-  h ^= h >> 16; h *= 0x7feb352du; h ^= h >> 15; h *= 0x846ca68bu; h ^= h >> 16;
-  return h;
-}
-double pixel_angle(uint32_t x, uint32_t y) { return double(pixel_hash(x, y)) * (2.0 * kPi / 4294967296.0); }
 
-V2 concentric(int k, int grid) {
-  double a = 2.0 * ((k % grid) + 0.5) / grid - 1.0, b = 2.0 * ((k / grid) + 0.5) / grid - 1.0;
-  if (a == 0.0 && b == 0.0) return {0.0, 0.0};
-  double r, phi;
-  if (std::abs(a) > std::abs(b)) { r = a; phi = kPi / 4.0 * (b / a); }
-  else { r = b; phi = kPi / 2.0 - kPi / 4.0 * (a / b); }
-  return {r * std::cos(phi), r * std::sin(phi)};
-}
 
 struct Aperture {
   int blades = 0;

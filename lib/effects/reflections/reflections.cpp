@@ -4,6 +4,7 @@
 #include <cmath>
 #include <numbers>
 
+#include "effects/sampling.h"
 #include "isg/shaders/reflections_isg.spv.h"
 #include "reflections_isg_io.h"
 
@@ -23,32 +24,7 @@ double smoothstep(double e0, double e1, double x) {
   return t * t * (3.0 - 2.0 * t);
 }
 
-int grid_of(long long samples) { return std::max(1, int(std::lround(std::sqrt(double(samples))))); }
 
-uint32_t pixel_hash(uint32_t x, uint32_t y) {
-  uint32_t h = (x * 0x8da6b343u) ^ (y * 0xd8163841u);
-  h ^= h >> 16;
-  h *= 0x7feb352du;
-  h ^= h >> 15;
-  h *= 0x846ca68bu;
-  h ^= h >> 16;
-  return h;
-}
-
-V2 concentric(int k, int grid) {
-  double a = 2.0 * (double(k % grid) + 0.5) / grid - 1.0;
-  double b = 2.0 * (double(k / grid) + 0.5) / grid - 1.0;
-  if (a == 0.0 && b == 0.0) return {0, 0};
-  double r, phi;
-  if (std::abs(a) > std::abs(b)) {
-    r = a;
-    phi = (kPi / 4.0) * (b / a);
-  } else {
-    r = b;
-    phi = kPi / 2.0 - (kPi / 4.0) * (a / b);
-  }
-  return {r * std::cos(phi), r * std::sin(phi)};
-}
 
 struct Ctx {
   const ReflInputs& in;
@@ -110,7 +86,7 @@ struct Ctx {
     return std::exp(-(s.a * l * l + s.b * nn * nn) / s.sigma);
   }
   double angle(int x, int y) const {
-    return double(pixel_hash(uint32_t(x), uint32_t(y))) * (2.0 * kPi / 4294967296.0);
+    return pixel_angle(uint32_t(x), uint32_t(y));
   }
 
   V3 blur(int x, int y, size_t i) const {

@@ -5,6 +5,7 @@
 #include <cstring>
 #include <numbers>
 
+#include "effects/sampling.h"
 #include "isg/shaders/shadows_isg.spv.h"
 #include "isg/shaders/shadows_isg_tiles.spv.h"
 #include "shadows_isg_io.h"
@@ -20,24 +21,7 @@ using V3 = std::array<double, 3>;
 V3 sub(V3 a, V3 b) { return {a[0] - b[0], a[1] - b[1], a[2] - b[2]}; }
 double len3(V3 a) { return std::sqrt(a[0] * a[0] + a[1] * a[1] + a[2] * a[2]); }
 
-int grid_of(long long samples) { return std::max(1, int(std::lround(std::sqrt(double(samples))))); }
 
-uint32_t pixel_hash(uint32_t x, uint32_t y) {
-  uint32_t h = (x * 0x8da6b343u) ^ (y * 0xd8163841u);
-  h ^= h >> 16; h *= 0x7feb352du; h ^= h >> 15; h *= 0x846ca68bu; h ^= h >> 16;
-  return h;
-}
-
-// Shirley-Chiu concentric map of cell k of a grid x grid lattice onto the unit disk.
-V2 concentric(int k, int grid) {
-  double a = 2.0 * (double(k % grid) + 0.5) / grid - 1.0;
-  double b = 2.0 * (double(k / grid) + 0.5) / grid - 1.0;
-  if (a == 0.0 && b == 0.0) return {0, 0};
-  double r, phi;
-  if (std::abs(a) > std::abs(b)) { r = a; phi = (kPi / 4.0) * (b / a); }
-  else { r = b; phi = kPi / 2.0 - (kPi / 4.0) * (a / b); }
-  return {r * std::cos(phi), r * std::sin(phi)};
-}
 
 struct Ctx {
   const ShadowInputs& in;
@@ -254,7 +238,7 @@ std::vector<float> shadows_isg_reference(const ShadowInputs& in, const ShadowSet
           const double Rp = std::min(Rp_raw, s.max_radius);
           const V2 p0 = {x + 0.5, y + 0.5};
           const double ang =
-              s.rotate ? double(pixel_hash(uint32_t(x), uint32_t(y))) * (2.0 * kPi / 4294967296.0) : 0.0;
+              s.rotate ? pixel_angle(uint32_t(x), uint32_t(y)) : 0.0;
           const double ca = std::cos(ang), sa = std::sin(ang);
 
           // Parameter search (eq. 4, 6, 7), the centre tap included.

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <random>
 
+#include "effects/sampling.h"
 #include "effects/shadows/settings.h"
 #include "io/image.h"
 #include "isg/shaders/shadowmap_pcss.spv.h"
@@ -16,15 +17,6 @@ constexpr double kPi = 3.14159265358979323846;
 using V2 = std::array<double, 2>;
 using V3 = std::array<double, 3>;
 
-uint32_t hash2(uint32_t x, uint32_t y) {  // = sm_hash in shadowmap_common.h
-  uint32_t h = (x * 0x8da6b343u) ^ (y * 0xd8163841u);
-  h ^= h >> 16;
-  h *= 0x7feb352du;
-  h ^= h >> 15;
-  h *= 0x846ca68bu;
-  h ^= h >> 16;
-  return h;
-}
 
 // The double mirror of shadowmap_common.h.
 struct Geom {
@@ -161,15 +153,11 @@ ShadowmapSettings shadowmap_settings(const io::Light& light, const io::Camera* c
 std::vector<float> shadowmap_taps(int n, const std::string& pattern) {
   std::vector<float> t;
   if (pattern == "stratified") {
-    const int g = std::max(1, int(std::lround(std::sqrt(double(n)))));
+    const int g = grid_of(n);
     for (int k = 0; k < g * g; ++k) {
-      double a = 2.0 * (double(k % g) + 0.5) / g - 1.0, b = 2.0 * (double(k / g) + 0.5) / g - 1.0;
-      double r = 0.0, phi = 0.0;
-      if (a == 0.0 && b == 0.0) {}
-      else if (std::abs(a) > std::abs(b)) { r = a; phi = (kPi / 4.0) * (b / a); }
-      else { r = b; phi = kPi / 2.0 - (kPi / 4.0) * (a / b); }
-      t.push_back(float(r * std::cos(phi)));
-      t.push_back(float(r * std::sin(phi)));
+      const auto c = concentric(k, g);
+      t.push_back(float(c[0]));
+      t.push_back(float(c[1]));
     }
     return t;
   }
@@ -232,7 +220,7 @@ std::vector<float> pcss_reference(const ShadowmapInputs& in, const ShadowmapData
       V3 g = G.receiver_plane(px, py, q, P, back);
       if (back) { ++st.skipped; out[i] = in.hard[i]; continue; }
       double texel_world = 2.0 * q[2] * G.tan_y / map.height;
-      double a = s.rotate ? double(hash2(uint32_t(px), uint32_t(py))) * (2.0 * kPi / 4294967296.0) : 0.0;
+      double a = s.rotate ? pixel_angle(uint32_t(px), uint32_t(py)) : 0.0;
       double ca = std::cos(a), sa = std::sin(a);
       auto tap = [&](size_t t, double r) -> V2 {
         double x = taps[2 * t], y = taps[2 * t + 1];

@@ -1,0 +1,51 @@
+// The sampling every gather shares (image-space gathering §3.1 and its future work): a regular
+// grid through the Shirley–Chiu concentric map onto the unit disk, rotated per pixel by an integer
+// hash of the pixel — never of the frame, so sequences do not flicker from sampling. The double
+// mirror of shaders/isg_sampling.h, for the C++ references.
+#pragma once
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <cstdint>
+
+namespace isg::effects {
+
+// Samples per pixel rounded to a grid x grid lattice.
+inline int grid_of(long long samples) {
+  return std::max(1, int(std::lround(std::sqrt(double(samples)))));
+}
+
+inline uint32_t pixel_hash(uint32_t x, uint32_t y) {
+  uint32_t h = (x * 0x8da6b343u) ^ (y * 0xd8163841u);
+  h ^= h >> 16;
+  h *= 0x7feb352du;
+  h ^= h >> 15;
+  h *= 0x846ca68bu;
+  h ^= h >> 16;
+  return h;
+}
+
+// The pixel's rotation of the sample grid, in [0, 2π).
+inline double pixel_angle(uint32_t x, uint32_t y) {
+  return double(pixel_hash(x, y)) * (2.0 * 3.14159265358979323846 / 4294967296.0);
+}
+
+// Cell k of a grid x grid lattice mapped onto the unit disk (Shirley–Chiu).
+inline std::array<double, 2> concentric(int k, int grid) {
+  constexpr double kPi = 3.14159265358979323846;
+  const double a = 2.0 * (double(k % grid) + 0.5) / grid - 1.0;
+  const double b = 2.0 * (double(k / grid) + 0.5) / grid - 1.0;
+  if (a == 0.0 && b == 0.0) return {0, 0};
+  double r, phi;
+  if (std::abs(a) > std::abs(b)) {
+    r = a;
+    phi = (kPi / 4.0) * (b / a);
+  } else {
+    r = b;
+    phi = kPi / 2.0 - (kPi / 4.0) * (a / b);
+  }
+  return {r * std::cos(phi), r * std::sin(phi)};
+}
+
+}  // namespace isg::effects
