@@ -9,8 +9,8 @@ std::vector<Def> shadows_params() {
   return {
       {"shadows.method", Type::choice, "isg", 0, 0, {"none", "hard", "isg", "pcss"},
        "soft-shadow method for every light with L.shadow and L.direct: isg (the paper's "
-       "parameter search and gather, eq. 4-9; needs L.occluder, P or Z, the camera and the "
-       "light's scene entry), hard (keep the input's hard shadow), pcss (percentage-closer "
+       "parameter search and gather, eq. 4-9; needs P or Z, the camera, the light's scene entry "
+       "and L.occluder, which the light's shadow map provides where the input has none), hard (keep the input's hard shadow), pcss (percentage-closer "
        "soft shadows from the light's shadow map; needs P, or Z and the camera, and the "
        "light's shadowmap in the scene file)", ""},
       {"shadows.search_samples", Type::integer, "25", 1, 1024, {},
