@@ -6,7 +6,7 @@ Writes bench/out/runs.json and docs/benchmark.md.
 
     python3 bench/bench.py [--build build] [--cases ../shared/cases] [--repeat 3]
 
-Not yet here (issue 9 stays open): plots, isg-synth cases, scaling sweeps, the numerical
+Not yet here (issue 9 stays open): isg-synth cases, scaling sweeps, the numerical
 stability table, memory, the CSSM/VSSM rows."""
 import argparse, json, os, platform, re, subprocess, sys, tempfile, time
 
@@ -14,6 +14,7 @@ ap = argparse.ArgumentParser()
 ap.add_argument("--build", default="build")
 ap.add_argument("--cases", default=os.path.join(os.path.dirname(__file__), "..", "..", "shared", "cases"))
 ap.add_argument("--repeat", type=int, default=3)
+ap.add_argument("--from-json", action="store_true", help="rewrite the report from bench/out/runs.json")
 ap.add_argument("--out", default=os.path.join(os.path.dirname(__file__), "..", "docs", "benchmark.md"))
 a = ap.parse_args()
 isg = os.path.join(a.build, "cli", "isg")
@@ -75,6 +76,10 @@ for m in ("isg", "layered"):
         plan.append(("dof", "dof", m, f"{n} samples", [f"dof.method={m}", f"dof.samples={n}"]))
 plan.append(("dof", "dof", "none", "-", ["dof.method=none"]))
 
+runs_json = os.path.join(os.path.dirname(__file__), "out", "runs.json")
+if a.from_json:
+    plan = []
+    rows = json.load(open(runs_json))
 for c, effect, method, setting, sets in plan:
     case = os.path.join(a.cases, c)
     if not os.path.isdir(case):
@@ -93,7 +98,8 @@ for c, effect, method, setting, sets in plan:
     print(c, effect, method, setting, f"{gpu:.1f} ms", f"{row['composite_rmse']:.5f}", file=sys.stderr)
 
 os.makedirs(os.path.join(os.path.dirname(__file__), "out"), exist_ok=True)
-json.dump(rows, open(os.path.join(os.path.dirname(__file__), "out", "runs.json"), "w"), indent=1)
+if not a.from_json:
+    json.dump(rows, open(runs_json, "w"), indent=1)
 
 dev = re.search(r"device: (.*)", sh([isg, "run", f"{a.cases}/contact/aovs.exr", "--scene", f"{a.cases}/contact/scene.json",
                                       "-o", os.path.join(tmp, "d.exr"), "--timings"]))
@@ -105,13 +111,56 @@ L = ["# Benchmark: speed against error", "",
      "kind of machine; 'Cycles reaches it' interpolates its curve log-log.", "",
      "Effects a row does not set run at their defaults (soft shadows isg, glossy reflections isg, "
      "no depth of field); the `hard` / `none` rows are each effect's doing-nothing baseline.", "",
-     "First cut of issue 9: plots, isg-synth cases, scaling, stability and memory are still to come.", ""]
+     "First cut of issue 9: isg-synth cases, scaling, stability and memory are still to come. `python3 bench/bench.py --from-json` rewrites this page and its plots from bench/out/runs.json without re-running.", ""]
+COLOURS = {"isg": "#d62728", "pcss": "#1f77b4", "blur": "#2ca02c", "layered": "#9467bd",
+           "hard": "#7f7f7f", "none": "#7f7f7f"}
+
+def svg_plot(path, title, rs, curve):
+    """Error (log) against time (log): our runs as points (all passes' GPU time), Cycles' render
+    time-to-error as a line."""
+    import math
+    W, H, m = 560, 360, 56
+    pts = [(max(r["gpu_total_ms"], 1e-3) / 1000.0, r["composite_rmse"], r["method"]) for r in rs]
+    xs = [p[0] for p in pts] + [t for _, t, _ in curve]
+    ys = [p[1] for p in pts] + [e for _, _, e in curve]
+    x0, x1 = math.floor(math.log10(min(xs))), math.ceil(math.log10(max(xs)))
+    y0, y1 = math.floor(math.log10(min(ys))), math.ceil(math.log10(max(ys)))
+    X = lambda t: m + (math.log10(t) - x0) / (x1 - x0) * (W - 1.5 * m)
+    Y = lambda e: H - m - (math.log10(e) - y0) / (y1 - y0) * (H - 1.6 * m)
+    o = [f'<svg xmlns="http://www.w3.org/2000/svg" width="{W}" height="{H}" font-family="sans-serif" font-size="11">',
+         f'<rect width="{W}" height="{H}" fill="white"/>',
+         f'<text x="{W/2}" y="16" text-anchor="middle" font-size="13">{title}</text>']
+    for k in range(x0, x1 + 1):
+        o.append(f'<line x1="{X(10**k):.1f}" y1="{Y(10**y0):.1f}" x2="{X(10**k):.1f}" y2="{Y(10**y1):.1f}" stroke="#ddd"/>')
+        o.append(f'<text x="{X(10**k):.1f}" y="{H - m + 16}" text-anchor="middle">{10**k:g} s</text>')
+    for k in range(y0, y1 + 1):
+        o.append(f'<line x1="{X(10**x0):.1f}" y1="{Y(10**k):.1f}" x2="{X(10**x1):.1f}" y2="{Y(10**k):.1f}" stroke="#ddd"/>')
+        o.append(f'<text x="{m - 6}" y="{Y(10**k) + 4:.1f}" text-anchor="end">{10**k:g}</text>')
+    o.append(f'<text x="{W/2}" y="{H - 12}" text-anchor="middle">time (isg: GPU time of all passes on the device; Cycles: render time)</text>')
+    o.append(f'<text x="14" y="{H/2}" transform="rotate(-90 14 {H/2})" text-anchor="middle">RMSE of the composite</text>')
+    line = " ".join(f"{X(t):.1f},{Y(e):.1f}" for _, t, e in curve)
+    o.append(f'<polyline points="{line}" fill="none" stroke="black" stroke-width="1.5"/>')
+    for spp, t, e in curve:
+        o.append(f'<text x="{X(t) + 4:.1f}" y="{Y(e) - 4:.1f}" font-size="9">{spp} spp</text>')
+    for t, e, meth in pts:
+        o.append(f'<circle cx="{X(t):.1f}" cy="{Y(e):.1f}" r="3.5" fill="{COLOURS.get(meth, "#ff7f0e")}" fill-opacity="0.8"/>')
+    ly = 30
+    for meth in ["Cycles"] + sorted({p[2] for p in pts}):
+        col = "black" if meth == "Cycles" else COLOURS.get(meth, "#ff7f0e")
+        o.append(f'<rect x="{W - m - 40}" y="{ly - 8}" width="10" height="10" fill="{col}"/><text x="{W - m - 26}" y="{ly + 1}">{meth}</text>')
+        ly += 14
+    o.append("</svg>")
+    open(path, "w").write("\n".join(o))
+
+plot_dir = os.path.join(os.path.dirname(a.out), "benchmark")
+os.makedirs(plot_dir, exist_ok=True)
 for c in ("contact", "rowdepth", "gloss", "dof"):
     rs = [r for r in rows if r["case"] == c]
     if not rs:
         continue
     curve = cycles(os.path.join(a.cases, c))
-    L += [f"## {c}", "", "Cycles: " + ", ".join(f"{s} spp {t:.2f} s → {e:.5f}" for s, t, e in curve), "",
+    svg_plot(os.path.join(plot_dir, f"{c}.svg"), f"{c}: error against time", rs, curve)
+    L += [f"## {c}", "", f"![{c}: error against time](benchmark/{c}.svg)", "", "Cycles: " + ", ".join(f"{s} spp {t:.2f} s → {e:.5f}" for s, t, e in curve), "",
           "| effect | method | setting | effect GPU ms | all passes GPU ms | composite RMSE | effect RMSE | Cycles reaches it at |",
           "|---|---|---|---|---|---|---|---|"]
     for r in rs:
