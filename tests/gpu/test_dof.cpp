@@ -14,7 +14,7 @@
 #include "run/job.h"
 #include "support/gpu_fixture.h"
 #include "support/images.h"
-#include "synth.h"
+#include "support/synth_case.h"
 
 using isg::test::GpuTest;
 namespace gpu = isg::gpu;
@@ -442,15 +442,7 @@ TEST_F(GpuTest, DofSharedCaseLayeredBeatsIsgInForeground) {
 // isg-synth dof (85 mm f/1.4; the thin-lens reference of the AOV beauty's shading, so shadows
 // and reflections stay as rendered): per region against ref/dof.exr.
 TEST_F(GpuTest, DofSynthRegions) {
-  const auto dir = isg::test::temp_dir("dof-synth");
-  isg::synth::Options o;
-  o.scene = "dof";
-  o.width = 192;
-  o.height = 108;
-  o.ref_spp = 64;
-  o.threads = 2;
-  o.shadowmap_size = 64;
-  isg::synth::generate(o, dir);
+  const auto dir = isg::test::synth_case({"dof"}, "dof-synth");
   const auto ref = isg::io::read_exr(dir / "ref" / "dof.exr");
   std::vector<int> reg;
   RegionErr errs[3];  // pinhole, isg, layered

@@ -18,7 +18,7 @@
 #include "run/job.h"
 #include "support/gpu_fixture.h"
 #include "support/images.h"
-#include "synth.h"
+#include "support/synth_case.h"
 
 using isg::test::GpuTest;
 namespace gpu = isg::gpu;
@@ -431,15 +431,7 @@ TEST_F(GpuTest, ReflectionsSharedCaseGloss) {
 // isg-synth's gloss scene: per-pixel roughness (0.1 and 0.35 halves), refl.glossy against the
 // synth's distribution-ray-traced reference over its mask.
 TEST_F(GpuTest, ReflectionsSynthGloss) {
-  const auto dir = isg::test::temp_dir("refl-synth-gloss");
-  isg::synth::Options o;
-  o.scene = "gloss";
-  o.width = 160;
-  o.height = 90;
-  o.ref_spp = 64;
-  o.threads = 2;
-  o.shadowmap_size = 64;
-  isg::synth::generate(o, dir);
+  const auto dir = isg::test::synth_case({"gloss", 160, 90}, "refl-synth-gloss");
   const auto ref = isg::io::read_exr(dir / "ref" / "glossy.exr");
   const auto& mask = ref.find("mask")->data;
   double errs[3] = {0, 0, 0};  // nothing, isg, blur
@@ -471,18 +463,8 @@ namespace {
 
 // isg-synth gloss at 160 x 90 (64-sample GGX reference), generated once per test binary.
 const std::filesystem::path& synth_gloss_dir() {
-  static const std::filesystem::path dir = [] {
-    auto d = isg::test::temp_dir("refl-synth-gloss-shared");
-    isg::synth::Options o;
-    o.scene = "gloss";
-    o.width = 160;
-    o.height = 90;
-    o.ref_spp = 64;
-    o.threads = 2;
-    o.shadowmap_size = 64;
-    isg::synth::generate(o, d);
-    return d;
-  }();
+  static const std::filesystem::path dir =
+      isg::test::synth_case({"gloss", 160, 90}, "refl-synth-gloss-shared");
   return dir;
 }
 

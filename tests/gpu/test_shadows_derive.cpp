@@ -15,7 +15,7 @@
 #include "run/job.h"
 #include "support/gpu_fixture.h"
 #include "support/images.h"
-#include "synth.h"
+#include "support/synth_case.h"
 
 namespace fx = isg::effects;
 namespace gpu = isg::gpu;
@@ -26,17 +26,7 @@ class ShadowsDerive : public isg::test::GpuTest {};
 
 // isg-synth `scene`, small, with a 512² map; the refs only where asked.
 std::filesystem::path synth(const std::string& scene, const std::string& tag, bool refs) {
-  const auto dir = isg::test::temp_dir("derive-" + tag);
-  isg::synth::Options o;
-  o.scene = scene;
-  o.width = 192;
-  o.height = 108;
-  o.ref_spp = 64;
-  o.threads = 2;
-  o.shadowmap_size = 512;
-  o.refs = refs;
-  isg::synth::generate(o, dir);
-  return dir;
+  return isg::test::synth_case({scene, 192, 108, refs ? 64 : 0, 1, 512}, "derive-" + tag);
 }
 
 // The derived channels of an isg-synth scene: the pass's GPU result, and its double reference.

@@ -15,7 +15,7 @@
 #include "io/scene.h"
 #include "plan/plan.h"
 #include "run/job.h"
-#include "synth.h"
+#include "support/synth_case.h"
 
 namespace fx = isg::effects;
 namespace gpu = isg::gpu;
@@ -282,16 +282,8 @@ struct SynthShadowError {
 };
 SynthShadowError synth_shadow_error(isg::gpu::Context& ctx, const std::string& scene,
                                     const std::string& ref_file, int aov_spp = 1) {
-  const auto dir = isg::test::temp_dir("shadows-synth-" + scene + std::to_string(aov_spp));
-  isg::synth::Options o;
-  o.scene = scene;
-  o.width = 192;
-  o.height = 108;
-  o.ref_spp = 64;
-  o.threads = 2;
-  o.shadowmap_size = 64;
-  o.aov_spp = aov_spp;
-  isg::synth::generate(o, dir);
+  const auto dir = isg::test::synth_case({scene, 192, 108, 64, aov_spp},
+                                         "shadows-synth-" + scene + std::to_string(aov_spp));
   const auto ref = isg::io::read_exr(dir / "ref" / ref_file);
   isg::run::JobConfig job{isg::io::read_scene(dir / "scene.json"), "", fx::default_params()};
   job.params.set_text("shadows.method", "isg", "test");
@@ -417,15 +409,7 @@ TEST_F(ShadowsIsg, GrazingViewKeepsTheClosedForm) {
 // must come out lit and finite, and nothing it adds may reach the near receivers (the range
 // function of eq. 6 rejects samples that far).
 TEST_F(ShadowsIsg, HugeDepthRangeLeavesNearReceiversAlone) {
-  const auto dir = isg::test::temp_dir("shadows-depth-range");
-  isg::synth::Options o;
-  o.scene = "contact";
-  o.width = 192;
-  o.height = 108;
-  o.threads = 2;
-  o.shadowmap_size = 64;
-  o.refs = false;
-  isg::synth::generate(o, dir);
+  const auto dir = isg::test::synth_case({"contact", 192, 108, 0}, "shadows-depth-range");
   auto job_for = [&] {
     isg::run::JobConfig job{isg::io::read_scene(dir / "scene.json"), "", fx::default_params()};
     job.params.set_text("shadows.method", "isg", "test");
@@ -480,15 +464,7 @@ TEST_F(ShadowsIsg, HugeDepthRangeLeavesNearReceiversAlone) {
 // some pipelines write them). Half's 11-bit mantissa moves P by up to ~2e-3 at these distances;
 // the soft shadow's error against the ray-traced reference must stay close to the float input's.
 TEST_F(ShadowsIsg, HalfFloatInputs) {
-  const auto dir = isg::test::temp_dir("shadows-half");
-  isg::synth::Options o;
-  o.scene = "contact";
-  o.width = 192;
-  o.height = 108;
-  o.ref_spp = 64;
-  o.threads = 2;
-  o.shadowmap_size = 64;
-  isg::synth::generate(o, dir);
+  const auto dir = isg::test::synth_case({"contact"}, "shadows-half");
   auto img = isg::io::read_exr(dir / "aovs.exr");
   for (auto& c : img.channels) c.storage = isg::io::Storage::half;
   isg::io::write_exr(dir / "half.exr", img, {});
