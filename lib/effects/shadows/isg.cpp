@@ -6,6 +6,7 @@
 #include <numbers>
 
 #include "effects/sampling.h"
+#include "effects/view.h"
 #include "isg/shaders/shadows_isg.spv.h"
 #include "isg/shaders/shadows_isg_tiles.spv.h"
 #include "shadows_isg_io.h"
@@ -30,13 +31,7 @@ struct Ctx {
   bool fg(size_t i) const { return in.fg[i] != 0.0f; }
   V3 position(size_t i) const {
     if (!in.position.empty()) return {in.position[i], in.position[n + i], in.position[2 * n + i]};
-    double z = in.depth[i];
-    double x = double(i % size_t(in.w)) + 0.5, y = double(i / size_t(in.w)) + 0.5;
-    V3 c = {(x - 0.5 * in.w) / s.f_px * z, -(y - 0.5 * in.h) / s.f_px * z, -z};
-    const auto& r = s.rot;  // R^T c + eye
-    return {r[0] * c[0] + r[3] * c[1] + r[6] * c[2] + s.eye[0],
-            r[1] * c[0] + r[4] * c[1] + r[7] * c[2] + s.eye[1],
-            r[2] * c[0] + r[5] * c[1] + r[8] * c[2] + s.eye[2]};
+    return PinholeView{s.f_px, s.eye, s.rot}.world(i, in.depth[i], in.w, in.h);
   }
   double eye_depth(V3 w) const {
     V3 d = sub(w, s.eye);
@@ -139,11 +134,10 @@ ShadowSettings shadow_settings(const io::Light& light, const io::Camera& cam, do
   const double nl = std::sqrt(light.normal[0] * light.normal[0] + light.normal[1] * light.normal[1] +
                               light.normal[2] * light.normal[2]);
   if (nl > 0) s.light_normal = {light.normal[0] / nl, light.normal[1] / nl, light.normal[2] / nl};
-  s.f_px = 0.5 * height / std::tan(cam.yfov_deg * kPi / 360.0);
-  const io::Mat4 inv = io::inverse(cam.world_to_camera);
-  s.eye = {inv[3], inv[7], inv[11]};
-  const auto& m = cam.world_to_camera;
-  s.rot = {m[0], m[1], m[2], m[4], m[5], m[6], m[8], m[9], m[10]};
+  const auto v = PinholeView::of(cam, height);
+  s.f_px = v.f_px;
+  s.eye = v.eye;
+  s.rot = v.rot;
   return s;
 }
 

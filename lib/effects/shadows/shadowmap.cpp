@@ -5,6 +5,7 @@
 #include <random>
 
 #include "effects/sampling.h"
+#include "effects/view.h"
 #include "effects/shadows/settings.h"
 #include "io/image.h"
 #include "isg/shaders/shadowmap_pcss.spv.h"
@@ -36,13 +37,7 @@ struct Geom {
   V3 light_pos{0, 0, 0};
   V3 position(size_t i) const {
     if (!in.position.empty()) return {in.position[i], in.position[n + i], in.position[2 * n + i]};
-    double z = in.depth[i];
-    double x = double(i % size_t(in.w)) + 0.5, y = double(i / size_t(in.w)) + 0.5;
-    V3 c = {(x - 0.5 * in.w) / s.f_px * z, -(y - 0.5 * in.h) / s.f_px * z, -z};
-    const auto& r = s.rot;
-    return {r[0] * c[0] + r[3] * c[1] + r[6] * c[2] + s.eye[0],
-            r[1] * c[0] + r[4] * c[1] + r[7] * c[2] + s.eye[1],
-            r[2] * c[0] + r[5] * c[1] + r[8] * c[2] + s.eye[2]};
+    return PinholeView{s.f_px, s.eye, s.rot}.world(i, in.depth[i], in.w, in.h);
   }
   V3 project(const V3& P) const {
     const auto& m = s.world_to_light;
@@ -141,11 +136,10 @@ ShadowmapSettings shadowmap_settings(const io::Light& light, const io::Camera* c
   s.max_radius = p.number("shadows.smap_max_radius");
   s.has_camera = cam != nullptr;
   if (cam) {
-    s.f_px = 0.5 * height / std::tan(cam->yfov_deg * kPi / 360.0);
-    const io::Mat4 inv = io::inverse(cam->world_to_camera);
-    s.eye = {inv[3], inv[7], inv[11]};
-    const auto& m = cam->world_to_camera;
-    s.rot = {m[0], m[1], m[2], m[4], m[5], m[6], m[8], m[9], m[10]};
+    const auto v = PinholeView::of(*cam, height);
+    s.f_px = v.f_px;
+    s.eye = v.eye;
+    s.rot = v.rot;
   }
   return s;
 }

@@ -1,0 +1,40 @@
+// The pinhole view every image-space pass shares: focal length in pixels, eye, world-to-camera
+// rotation, and the world position of a pixel at a planar depth (for inputs with Z but no P).
+// shaders: the same arithmetic in shadows_isg.comp, reflections_isg.comp, shadowmap_common.h.
+#pragma once
+
+#include <array>
+#include <cmath>
+
+#include "io/scene.h"
+
+namespace isg::effects {
+
+struct PinholeView {
+  double f_px = 1.0;                              // (height / 2) / tan(yfov / 2)
+  std::array<double, 3> eye{0, 0, 0};             // camera centre, world
+  std::array<double, 9> rot{1, 0, 0, 0, 1, 0, 0, 0, 1};  // world-to-camera rotation, rows
+
+  // For an image `height` rows tall (any resolution of the camera's frame).
+  static PinholeView of(const io::Camera& cam, int height) {
+    PinholeView v;
+    v.f_px = 0.5 * height / std::tan(cam.yfov_deg * 3.14159265358979323846 / 360.0);
+    const io::Mat4 inv = io::inverse(cam.world_to_camera);
+    v.eye = {inv[3], inv[7], inv[11]};
+    const auto& m = cam.world_to_camera;
+    v.rot = {m[0], m[1], m[2], m[4], m[5], m[6], m[8], m[9], m[10]};
+    return v;
+  }
+
+  // World position of the centre of pixel i of a w x h image at planar depth z: R^T c + eye.
+  std::array<double, 3> world(size_t i, double z, int w, int h) const {
+    const double x = double(i % size_t(w)) + 0.5, y = double(i / size_t(w)) + 0.5;
+    const double c[3] = {(x - 0.5 * w) / f_px * z, -(y - 0.5 * h) / f_px * z, -z};
+    const auto& r = rot;
+    return {r[0] * c[0] + r[3] * c[1] + r[6] * c[2] + eye[0],
+            r[1] * c[0] + r[4] * c[1] + r[7] * c[2] + eye[1],
+            r[2] * c[0] + r[5] * c[1] + r[8] * c[2] + eye[2]};
+  }
+};
+
+}  // namespace isg::effects
