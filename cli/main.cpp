@@ -200,7 +200,8 @@ void print_timings(const isg::gpu::Context& ctx, const isg::run::LoadedFrame& f,
   for (const auto& sm : st.shadowmaps) {
     std::cout << "shadows[" << sm.light << "] (" << sm.method << "): " << sm.skipped_fraction * 100.0
               << "% of " << sm.pixels << " pixels in the shadow map skipped the filter (fully lit "
-              << "or umbra), " << sm.clamped_pixels << " clamped to shadows.smap_max_radius\n";
+              << "or umbra), " << sm.clamped_pixels << " clamped to shadows.smap_max_radius; "
+              << double(sm.gpu_bytes) / 1048576.0 << " MiB of the method's own GPU buffers\n";
   }
 }
 

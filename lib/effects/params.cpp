@@ -7,12 +7,13 @@ using params::Type;
 
 std::vector<Def> shadows_params() {
   return {
-      {"shadows.method", Type::choice, "isg", 0, 0, {"none", "hard", "isg", "pcss"},
+      {"shadows.method", Type::choice, "isg", 0, 0, {"none", "hard", "isg", "pcss", "vssm", "cssm"},
        "soft-shadow method for every light with L.shadow and L.direct: isg (the paper's "
        "parameter search and gather, eq. 4-9; needs P or Z, the camera, the light's scene entry "
        "and L.occluder, which the light's shadow map provides where the input has none), hard (keep the input's hard shadow), pcss (percentage-closer "
-       "soft shadows from the light's shadow map; needs P, or Z and the camera, and the "
-       "light's shadowmap in the scene file)", ""},
+       "soft shadows from the light's shadow map, thesis §2.4.2), vssm (variance soft shadow "
+       "maps, thesis ch. 7), cssm (convolution soft shadow maps, thesis ch. 5); the shadow-map "
+       "methods need P, or Z and the camera, and the light's shadowmap in the scene file", ""},
       {"shadows.search_samples", Type::integer, "25", 1, 1024, {},
        "parameter-search samples per pixel, rounded to a square grid through the concentric "
        "disk map (rotated per pixel)", ""},
@@ -50,6 +51,30 @@ std::vector<Def> shadows_params() {
       {"shadows.smap_max_radius", Type::number, "64", 0.5, 1024, {},
        "shadow-map methods: largest blocker-search and filter radius; pixels that need more "
        "are clamped and counted (--timings)", "texels"},
+      {"shadows.vssm_m", Type::integer, "5", 1, 16, {},
+       "vssm: the blocker search's kernel is split into m x m sub-kernels (thesis §7.4.2); 1: "
+       "no subdivision", ""},
+      {"shadows.vssm_h", Type::integer, "3", 0, 5, {},
+       "vssm: height of the quad-tree the filter kernel is subdivided by where it is not "
+       "planar (Algorithm 3); 0: no subdivision", ""},
+      {"shadows.vssm_leaf_taps", Type::integer, "4", 0, 64, {},
+       "vssm: PCF taps (a square grid) in each non-planar leaf sub-kernel; 0: such leaves are "
+       "taken as lit, as plain variance shadow maps do", ""},
+      {"shadows.vssm_flat", Type::number, "0.0001", 0, 1, {},
+       "vssm: a sub-kernel whose mean depth is behind the receiver and whose variance is below "
+       "this times scene_radius is fully lit (thesis §7.5.5)", ""},
+      {"shadows.vssm_contact", Type::number, "0.01", 0, 1, {},
+       "vssm: where the receiver is closer than this times scene_radius behind the mean "
+       "blocker, the shadow is a 3x3 PCF (contact shadows, thesis §7.5.4)", ""},
+      {"shadows.cssm_order", Type::integer, "4", 1, 16, {},
+       "cssm: Fourier terms M of the shadow test's expansion (eq. 5.10); 4, 8 and 16 are "
+       "the thesis's settings", ""},
+      {"shadows.cssm_filter", Type::choice, "sat", 0, 0, {"sat", "mipmap"},
+       "cssm: prefiltering of the basis images, summed-area tables or mipmaps (§5.3.1)", ""},
+      {"shadows.cssm_sharpen_a", Type::number, "30", 0, 1e3, {},
+       "cssm: A of the sharpening exponent p = 1 + A exp(-B (d - z_avg)) (eq. 5.9); 0: none", ""},
+      {"shadows.cssm_sharpen_b", Type::number, "10", 0, 1e6, {},
+       "cssm: B of eq. 5.9, per unit of normalised depth (the map's depth range is 1)", ""},
   };
 }
 

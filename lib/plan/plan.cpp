@@ -158,7 +158,7 @@ Plan make_plan(const io::Roles& roles, const io::Scene& scene, const params::Par
         why = "missing channels for role " + l + ".occluder (and no usable shadow map: " +
               effects::shadowmap_unsupported(light, l) + ")";
       if (why.empty() && derive)
-        plan.derived[l] = effects::shadowmap_settings(*light, cam, p, "derive", height);
+        plan.derived[l] = effects::shadowmap_settings(*light, cam, scene.scene_radius, p, "derive", height);
       st.runs = true;
       if (why.empty()) {
         plan.shadows[l] = effects::shadow_settings(*light, *cam, scene.scene_radius, p, height);
@@ -169,7 +169,7 @@ Plan make_plan(const io::Roles& roles, const io::Scene& scene, const params::Par
         st.why = "isg cannot run: " + why;
         st.runs = roles.has(l + ".shadow");  // without L.shadow there is nothing to keep
       }
-    } else if (method == "pcss") {
+    } else if (method == "pcss" || method == "vssm" || method == "cssm") {
       // The shadow map and the receivers' positions (P, or Z through the camera); no
       // L.occluder.
       const io::Camera* cam = camera ? camera : (scene.camera ? &*scene.camera : nullptr);
@@ -180,7 +180,7 @@ Plan make_plan(const io::Roles& roles, const io::Scene& scene, const params::Par
         why = "no camera (scene file, or worldToCamera/worldToNDC in the header) to place Z";
       st.why = why;
       st.runs = why.empty();
-      if (st.runs) plan.shadowmaps[l] = effects::shadowmap_settings(*light, cam, p, method, height);
+      if (st.runs) plan.shadowmaps[l] = effects::shadowmap_settings(*light, cam, scene.scene_radius, p, method, height);
     } else {
       st.runs = true;
     }

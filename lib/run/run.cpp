@@ -166,7 +166,8 @@ Stats execute(gpu::Context& ctx, const plan::Plan& plan, const io::Roles& roles,
     img.set(soft, buf.at(soft).download_as<float>(n), io::Storage::f32);
     if (smap_pass.count(l)) {
       auto t = smap_pass.at(l)->stats();
-      st.shadowmaps.push_back({l, plan.shadowmaps.at(l).method, t.skipped_fraction(), t.pixels, t.clamped});
+      st.shadowmaps.push_back({l, plan.shadowmaps.at(l).method, t.skipped_fraction(), t.pixels,
+                              t.clamped, smap_pass.at(l)->gpu_bytes()});
     }
     if (plan.shadows.count(l)) {
       auto t = effects::ShadowsIsgPass::stats(buf.at(l + ".shadow.tiles"), w, h);

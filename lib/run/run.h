@@ -32,6 +32,7 @@ struct Stats {
     std::string light, method;
     double skipped_fraction = 0;
     uint64_t pixels = 0, clamped_pixels = 0;
+    uint64_t gpu_bytes = 0;  // the method's own buffers (SATs, basis images, HSM)
   };
   std::vector<ShadowmapSkip> shadowmaps;
   double gpu_ms() const;

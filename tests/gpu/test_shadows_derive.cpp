@@ -45,7 +45,7 @@ Derived derive(gpu::Context& ctx, const std::string& scene_name) {
   const auto scene = isg::io::read_scene(dir / "scene.json");
   const auto* light = scene.light("key");
   if (!light || !light->shadowmap || !scene.camera) throw std::runtime_error("synth scene without key");
-  auto s = fx::shadowmap_settings(*light, &*scene.camera, fx::default_params(), "derive",
+  auto s = fx::shadowmap_settings(*light, &*scene.camera, scene.scene_radius, fx::default_params(), "derive",
                                   img.height);
   s.file = dir / light->shadowmap->file.filename();
   const auto map = fx::load_shadowmap(s.file);

@@ -6,6 +6,7 @@
 
 #include "effects/sampling.h"
 #include "effects/view.h"
+#include "effects/shadows/method.h"
 #include "effects/shadows/settings.h"
 #include "io/image.h"
 #include "isg/shaders/shadowmap_pcss.spv.h"
@@ -13,101 +14,10 @@
 
 namespace isg::effects {
 
-namespace {
-constexpr double kPi = 3.14159265358979323846;
-using V2 = std::array<double, 2>;
-using V3 = std::array<double, 3>;
-
-
-// The double mirror of shadowmap_common.h.
-struct Geom {
-  const ShadowmapInputs& in;
-  const ShadowmapData& map;
-  const ShadowmapSettings& s;
-  double tan_x, tan_y;
-  size_t n;
-  Geom(const ShadowmapInputs& i, const ShadowmapData& m, const ShadowmapSettings& st)
-      : in(i), map(m), s(st) {
-    tan_y = std::tan(s.yfov_deg * kPi / 360.0);
-    tan_x = tan_y * double(m.width) / double(m.height);
-    n = size_t(in.w) * size_t(in.h);
-    const io::Mat4 inv = io::inverse(s.world_to_light);
-    light_pos = {inv[3], inv[7], inv[11]};
-  }
-  V3 light_pos{0, 0, 0};
-  V3 position(size_t i) const {
-    if (!in.position.empty()) return {in.position[i], in.position[n + i], in.position[2 * n + i]};
-    return PinholeView{s.f_px, s.eye, s.rot}.world(i, in.depth[i], in.w, in.h);
-  }
-  V3 project(const V3& P) const {
-    const auto& m = s.world_to_light;
-    double x = m[0] * P[0] + m[1] * P[1] + m[2] * P[2] + m[3];
-    double y = m[4] * P[0] + m[5] * P[1] + m[6] * P[2] + m[7];
-    double z = -(m[8] * P[0] + m[9] * P[1] + m[10] * P[2] + m[11]);
-    if (z <= 1e-6) return {-1, -1, -1};
-    return {(x / (z * tan_x) * 0.5 + 0.5) * map.width, (0.5 - y / (z * tan_y) * 0.5) * map.height, z};
-  }
-  bool inside(const V3& q) const {
-    return q[2] > 0 && q[0] >= 0 && q[1] >= 0 && q[0] < map.width && q[1] < map.height;
-  }
-  V3 receiver_plane(int px, int py, const V3& q, const V3& P, bool& back) const {
-    std::array<V3, 2> d{}, t{};
-    back = false;
-    int found = 0;
-    double spread = 1e30;
-    for (int axis = 0; axis < 2; ++axis) {
-      double best = 1e30;
-      V3 bd{0, 0, 0}, bt{0, 0, 0};
-      for (int sg = -1; sg <= 1; sg += 2) {
-        int nx = px + (axis == 0 ? sg : 0), ny = py + (axis == 1 ? sg : 0);
-        if (nx < 0 || ny < 0 || nx >= in.w || ny >= in.h) continue;
-        size_t j = size_t(ny) * in.w + nx;
-        if (in.fg[j] == 0.0f) continue;
-        V3 Pn = position(j);
-        V3 qn = project(Pn);
-        if (qn[2] <= 0) continue;
-        double dz = std::abs(qn[2] - q[2]);
-        if (dz < best) {
-          best = dz;
-          bd = {qn[0] - q[0], qn[1] - q[1], 1.0 / qn[2] - 1.0 / q[2]};
-          bt = {Pn[0] - P[0], Pn[1] - P[1], Pn[2] - P[2]};
-        }
-      }
-      if (best < 1e30) { t[size_t(found)] = bt; d[size_t(found++)] = bd; }
-      spread = std::min(spread, best);
-    }
-    if (spread >= 1e30) spread = 0.0;
-    if (found < 2) return {0, 0, spread};
-    if (s.has_camera) {
-      V3 nr = {t[0][1] * t[1][2] - t[0][2] * t[1][1], t[0][2] * t[1][0] - t[0][0] * t[1][2],
-               t[0][0] * t[1][1] - t[0][1] * t[1][0]};
-      auto dot_to = [&](const std::array<double, 3>& X) {
-        return nr[0] * (X[0] - P[0]) + nr[1] * (X[1] - P[1]) + nr[2] * (X[2] - P[2]);
-      };
-      double se = dot_to(s.eye) < 0 ? -1.0 : 1.0;
-      back = se * dot_to(light_pos) < 0;
-    }
-    double det = d[0][0] * d[1][1] - d[0][1] * d[1][0];
-    if (std::abs(det) < 1e-8) return {0, 0, spread};
-    return {(d[0][2] * d[1][1] - d[1][2] * d[0][1]) / det,
-            (d[0][0] * d[1][2] - d[1][0] * d[0][2]) / det, spread};
-  }
-  double threshold(const V3& q, const V3& g, double cx, double cy, double texel_world) const {
-    double ox = cx - q[0], oy = cy - q[1];
-    double iz = 1.0 / q[2] + g[0] * ox + g[1] * oy;
-    double zc = iz > 0 ? 1.0 / iz : 1e30;
-    double lim = s.slope_max * texel_world * std::sqrt(ox * ox + oy * oy);
-    zc = std::clamp(zc, q[2] - lim, q[2] + lim);
-    return zc - s.bias * texel_world - s.spread_bias * g[2];
-  }
-  bool in_map(double cx, double cy) const {
-    return cx >= 0 && cy >= 0 && cx < map.width && cy < map.height;
-  }
-  double fetch(double cx, double cy) const {
-    return map.z[size_t(cy) * size_t(map.width) + size_t(cx)];
-  }
-};
-}  // namespace
+using detail::Geom;
+using detail::V2;
+using detail::V3;
+using detail::kPi;
 
 std::string shadowmap_unsupported(const io::Light* light, const std::string& name) {
   if (!light) return "light " + name + " is not in the scene file";
@@ -119,8 +29,8 @@ std::string shadowmap_unsupported(const io::Light* light, const std::string& nam
 }
 
 ShadowmapSettings shadowmap_settings(const io::Light& light, const io::Camera* cam,
-                                     const params::Params& p, const std::string& method,
-                                     int height) {
+                                     double scene_radius, const params::Params& p,
+                                     const std::string& method, int height) {
   ShadowmapSettings s;
   s.method = method;
   s.file = light.shadowmap->file;
@@ -134,6 +44,16 @@ ShadowmapSettings shadowmap_settings(const io::Light& light, const io::Camera* c
   s.slope_max = p.number("shadows.slope_max");
   s.spread_bias = p.number("shadows.spread_bias");
   s.max_radius = p.number("shadows.smap_max_radius");
+  s.scene_radius = scene_radius;
+  s.vssm_m = int(p.integer("shadows.vssm_m"));
+  s.vssm_h = int(p.integer("shadows.vssm_h"));
+  s.vssm_leaf_taps = int(p.integer("shadows.vssm_leaf_taps"));
+  s.vssm_flat = p.number("shadows.vssm_flat");
+  s.vssm_contact = p.number("shadows.vssm_contact");
+  s.cssm_order = int(p.integer("shadows.cssm_order"));
+  s.cssm_filter = p.choice("shadows.cssm_filter");
+  s.cssm_a = p.number("shadows.cssm_sharpen_a");
+  s.cssm_b = p.number("shadows.cssm_sharpen_b");
   s.has_camera = cam != nullptr;
   if (cam) {
     const auto v = PinholeView::of(*cam, height);
@@ -247,18 +167,6 @@ std::vector<float> pcss_reference(const ShadowmapInputs& in, const ShadowmapData
   return out;
 }
 
-struct ShadowmapPass::Impl {
-  gpu::Kernel kernel;
-  gpu::Buffer params, taps, stats;
-  uint32_t w, h;
-  Impl(gpu::Context& ctx, uint32_t w_, uint32_t h_)
-      : kernel(ctx, "shadows.pcss", isg_spv_shadowmap_pcss,
-               {gpu::Slot::buffer, gpu::Slot::buffer, gpu::Slot::buffer, gpu::Slot::buffer,
-                gpu::Slot::buffer, gpu::Slot::buffer, gpu::Slot::buffer, gpu::Slot::buffer},
-               sizeof(shaders::ShadowmapPush), SHADOWMAP_LOCAL, SHADOWMAP_LOCAL),
-        w(w_), h(h_) {}
-};
-
 shaders::ShadowmapParams shadowmap_params(const ShadowmapSettings& s, const ShadowmapData& map,
                                           uint32_t w, uint32_t h, bool has_position,
                                           uint32_t taps) {
@@ -299,20 +207,71 @@ shaders::ShadowmapParams shadowmap_params(const ShadowmapSettings& s, const Shad
   return p;
 }
 
+namespace detail {
+ShadowmapStats read_stats(const gpu::Buffer& stats) {
+  auto v = stats.download_as<uint32_t>(SHADOWMAP_STATS);
+  ShadowmapStats s;
+  s.pixels = v[SHADOWMAP_STAT_PIXELS];
+  s.skipped = v[SHADOWMAP_STAT_SKIPPED];
+  s.clamped = v[SHADOWMAP_STAT_CLAMPED];
+  return s;
+}
+
+namespace {
+// PCSS: one kernel (shaders/shadowmap_pcss.comp); its taps and counters.
+class Pcss final : public ShadowmapMethod {
+ public:
+  Pcss(gpu::Context& ctx, const ShadowmapSettings& s, const ShadowmapData& map, uint32_t w,
+       uint32_t h, bool has_position)
+      : kernel_(ctx, "shadows.pcss", isg_spv_shadowmap_pcss,
+                {gpu::Slot::buffer, gpu::Slot::buffer, gpu::Slot::buffer, gpu::Slot::buffer,
+                 gpu::Slot::buffer, gpu::Slot::buffer, gpu::Slot::buffer, gpu::Slot::buffer},
+                sizeof(shaders::ShadowmapPush), SHADOWMAP_LOCAL, SHADOWMAP_LOCAL),
+        w_(w), h_(h) {
+    const auto taps = shadowmap_taps(s.taps, s.pattern);
+    const shaders::ShadowmapParams p =
+        shadowmap_params(s, map, w, h, has_position, uint32_t(taps.size() / 2));
+    params_ = gpu::Buffer(ctx, sizeof(p), "shadowmap.params");
+    params_.upload(&p, sizeof(p));
+    taps_ = gpu::Buffer(ctx, taps.size() * sizeof(float), "shadowmap.taps");
+    taps_.upload(std::span<const float>(taps));
+    std::vector<uint32_t> zero(SHADOWMAP_STATS, 0u);
+    stats_ = gpu::Buffer(ctx, zero.size() * sizeof(uint32_t), "shadowmap.stats");
+    stats_.upload(std::span<const uint32_t>(zero));
+  }
+  void record(gpu::Sequence& seq, const gpu::Buffer& geo, const gpu::Buffer& fg,
+              const gpu::Buffer& hard, const gpu::Buffer& map, const gpu::Buffer& soft,
+              const std::string& label) override {
+    shaders::ShadowmapPush pc{w_, h_};
+    seq.dispatch(kernel_,
+                 {gpu::Binding::of(params_), gpu::Binding::of(geo), gpu::Binding::of(fg),
+                  gpu::Binding::of(hard), gpu::Binding::of(map), gpu::Binding::of(taps_),
+                  gpu::Binding::of(soft), gpu::Binding::of(stats_)},
+                 pc, w_, h_, label);
+  }
+  ShadowmapStats stats() const override { return read_stats(stats_); }
+  uint64_t gpu_bytes() const override { return params_.size() + taps_.size() + stats_.size(); }
+
+ private:
+  gpu::Kernel kernel_;
+  gpu::Buffer params_, taps_, stats_;
+  uint32_t w_, h_;
+};
+}  // namespace
+
+std::unique_ptr<ShadowmapMethod> make_pcss(gpu::Context& ctx, const ShadowmapSettings& s,
+                                           const ShadowmapData& map, uint32_t w, uint32_t h,
+                                           bool has_position) {
+  return std::make_unique<Pcss>(ctx, s, map, w, h, has_position);
+}
+}  // namespace detail
+
 ShadowmapPass::ShadowmapPass(gpu::Context& ctx, const ShadowmapSettings& s,
-                             const ShadowmapData& map, uint32_t w, uint32_t h, bool has_position)
-    : impl_(std::make_unique<Impl>(ctx, w, h)) {
-  if (s.method != "pcss") throw std::logic_error("shadow-map method " + s.method + " not built");
-  const auto taps = shadowmap_taps(s.taps, s.pattern);
-  const shaders::ShadowmapParams p =
-      shadowmap_params(s, map, w, h, has_position, uint32_t(taps.size() / 2));
-  impl_->params = gpu::Buffer(ctx, sizeof(p), "shadowmap.params");
-  impl_->params.upload(&p, sizeof(p));
-  impl_->taps = gpu::Buffer(ctx, taps.size() * sizeof(float), "shadowmap.taps");
-  impl_->taps.upload(std::span<const float>(taps));
-  std::vector<uint32_t> zero(SHADOWMAP_STATS, 0u);
-  impl_->stats = gpu::Buffer(ctx, zero.size() * sizeof(uint32_t), "shadowmap.stats");
-  impl_->stats.upload(std::span<const uint32_t>(zero));
+                             const ShadowmapData& map, uint32_t w, uint32_t h, bool has_position) {
+  if (s.method == "pcss") method_ = detail::make_pcss(ctx, s, map, w, h, has_position);
+  else if (s.method == "vssm") method_ = detail::make_vssm(ctx, s, map, w, h, has_position);
+  else if (s.method == "cssm") method_ = detail::make_cssm(ctx, s, map, w, h, has_position);
+  else throw std::logic_error("no shadow-map method " + s.method);
 }
 
 ShadowmapPass::~ShadowmapPass() = default;
@@ -320,22 +279,11 @@ ShadowmapPass::~ShadowmapPass() = default;
 void ShadowmapPass::record(gpu::Sequence& seq, const gpu::Buffer& geo, const gpu::Buffer& fg,
                            const gpu::Buffer& hard, const gpu::Buffer& map,
                            const gpu::Buffer& soft, const std::string& label) {
-  shaders::ShadowmapPush pc{impl_->w, impl_->h};
-  seq.dispatch(impl_->kernel,
-               {gpu::Binding::of(impl_->params), gpu::Binding::of(geo), gpu::Binding::of(fg),
-                gpu::Binding::of(hard), gpu::Binding::of(map), gpu::Binding::of(impl_->taps),
-                gpu::Binding::of(soft), gpu::Binding::of(impl_->stats)},
-               pc, impl_->w, impl_->h, label);
+  method_->record(seq, geo, fg, hard, map, soft, label);
 }
 
-ShadowmapStats ShadowmapPass::stats() const {
-  auto v = impl_->stats.download_as<uint32_t>(SHADOWMAP_STATS);
-  ShadowmapStats s;
-  s.pixels = v[SHADOWMAP_STAT_PIXELS];
-  s.skipped = v[SHADOWMAP_STAT_SKIPPED];
-  s.clamped = v[SHADOWMAP_STAT_CLAMPED];
-  return s;
-}
+ShadowmapStats ShadowmapPass::stats() const { return method_->stats(); }
+uint64_t ShadowmapPass::gpu_bytes() const { return method_->gpu_bytes(); }
 
 DerivedShadow shadowmap_derive_reference(const ShadowmapInputs& in, const ShadowmapData& map,
                                          const ShadowmapSettings& s) {

@@ -16,6 +16,9 @@
 #include "shadowmap_io.h"
 
 namespace isg::effects {
+namespace detail {
+class ShadowmapMethod;
+}
 
 struct ShadowmapSettings {
   std::string method = "pcss";
@@ -30,6 +33,17 @@ struct ShadowmapSettings {
   double slope_max = 4.0;                 // shadows.slope_max
   double spread_bias = 2.0;               // shadows.spread_bias
   double max_radius = 64.0;               // shadows.smap_max_radius, texels
+  double scene_radius = 1.0;              // the scene file's scene_radius (r of §7.5.4-7.5.5)
+  // vssm (thesis ch. 7)
+  int vssm_m = 5;           // shadows.vssm_m: m×m uniform sub-kernels, blocker search (§7.4.2)
+  int vssm_h = 3;           // shadows.vssm_h: quad-tree height H, shadow (Algorithm 3)
+  int vssm_leaf_taps = 4;   // shadows.vssm_leaf_taps: PCF taps per non-planar leaf (0: lit)
+  double vssm_flat = 1e-4;  // shadows.vssm_flat: σ² below it·r is planar (§7.5.5)
+  double vssm_contact = 0.01;  // shadows.vssm_contact: d − z_avg below it·r: PCF (§7.5.4)
+  // cssm (thesis ch. 5)
+  int cssm_order = 4;                 // shadows.cssm_order: M, Fourier terms (eq. 5.2, 5.10)
+  std::string cssm_filter = "sat";    // shadows.cssm_filter: sat | mipmap (§5.3.1)
+  double cssm_a = 30.0, cssm_b = 10.0;  // shadows.cssm_sharpen_a/b: eq. 5.9
   // Camera (depth -> position; facing test): focal length in pixels, eye, world-to-camera
   // rotation. Without a camera, P is required and no facing test is made.
   bool has_camera = false;
@@ -44,8 +58,8 @@ std::string shadowmap_unsupported(const io::Light* light, const std::string& nam
 // From the light, the camera (may be null when P is given; any resolution: f_px is for
 // `height` rows) and the preset.
 ShadowmapSettings shadowmap_settings(const io::Light& light, const io::Camera* cam,
-                                     const params::Params& p, const std::string& method,
-                                     int height);
+                                     double scene_radius, const params::Params& p,
+                                     const std::string& method, int height);
 
 // `n` points in the unit disk, x y interleaved: pattern "stratified" (a square grid of
 // round(sqrt(n))² cells through the concentric map, so n is rounded) or "poisson" (dart
@@ -77,6 +91,13 @@ struct ShadowmapStats {
 std::vector<float> pcss_reference(const ShadowmapInputs& in, const ShadowmapData& map,
                                   const ShadowmapSettings& s, ShadowmapStats* stats = nullptr);
 
+// Double-precision VSSM (thesis ch. 7) and CSSM (ch. 5), the same decisions as their GPU
+// passes (lib/effects/shadows/vssm.cpp, cssm.cpp).
+std::vector<float> vssm_reference(const ShadowmapInputs& in, const ShadowmapData& map,
+                                  const ShadowmapSettings& s, ShadowmapStats* stats = nullptr);
+std::vector<float> cssm_reference(const ShadowmapInputs& in, const ShadowmapData& map,
+                                  const ShadowmapSettings& s, ShadowmapStats* stats = nullptr);
+
 // The parameters every shadowmap_* pass reads (shaders/shadowmap_io.h); `taps`: tap count.
 shaders::ShadowmapParams shadowmap_params(const ShadowmapSettings& s, const ShadowmapData& map,
                                           uint32_t w, uint32_t h, bool has_position,
@@ -104,10 +125,10 @@ class ShadowmapPass {
               const gpu::Buffer& hard, const gpu::Buffer& map, const gpu::Buffer& soft,
               const std::string& label);
   ShadowmapStats stats() const;  // after the sequence ran
+  uint64_t gpu_bytes() const;      // the method's own buffers (SATs, basis images, HSM, ...)
 
  private:
-  struct Impl;
-  std::unique_ptr<Impl> impl_;
+  std::unique_ptr<detail::ShadowmapMethod> method_;
 };
 
 }  // namespace isg::effects

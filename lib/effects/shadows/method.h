@@ -1,0 +1,132 @@
+// Inside the shadow-map methods (not a public header): the double mirror of
+// shaders/shadowmap_common.h that every reference shares, and the interface each method's GPU
+// pass implements behind ShadowmapPass.
+#pragma once
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <memory>
+
+#include "effects/shadows/shadowmap.h"
+#include "effects/view.h"
+
+namespace isg::effects::detail {
+constexpr double kPi = 3.14159265358979323846;
+using V2 = std::array<double, 2>;
+using V3 = std::array<double, 3>;
+
+// The double mirror of shadowmap_common.h.
+struct Geom {
+  const ShadowmapInputs& in;
+  const ShadowmapData& map;
+  const ShadowmapSettings& s;
+  double tan_x, tan_y;
+  size_t n;
+  Geom(const ShadowmapInputs& i, const ShadowmapData& m, const ShadowmapSettings& st)
+      : in(i), map(m), s(st) {
+    tan_y = std::tan(s.yfov_deg * kPi / 360.0);
+    tan_x = tan_y * double(m.width) / double(m.height);
+    n = size_t(in.w) * size_t(in.h);
+    const io::Mat4 inv = io::inverse(s.world_to_light);
+    light_pos = {inv[3], inv[7], inv[11]};
+  }
+  V3 light_pos{0, 0, 0};
+  V3 position(size_t i) const {
+    if (!in.position.empty()) return {in.position[i], in.position[n + i], in.position[2 * n + i]};
+    return PinholeView{s.f_px, s.eye, s.rot}.world(i, in.depth[i], in.w, in.h);
+  }
+  V3 project(const V3& P) const {
+    const auto& m = s.world_to_light;
+    double x = m[0] * P[0] + m[1] * P[1] + m[2] * P[2] + m[3];
+    double y = m[4] * P[0] + m[5] * P[1] + m[6] * P[2] + m[7];
+    double z = -(m[8] * P[0] + m[9] * P[1] + m[10] * P[2] + m[11]);
+    if (z <= 1e-6) return {-1, -1, -1};
+    return {(x / (z * tan_x) * 0.5 + 0.5) * map.width, (0.5 - y / (z * tan_y) * 0.5) * map.height, z};
+  }
+  bool inside(const V3& q) const {
+    return q[2] > 0 && q[0] >= 0 && q[1] >= 0 && q[0] < map.width && q[1] < map.height;
+  }
+  V3 receiver_plane(int px, int py, const V3& q, const V3& P, bool& back) const {
+    std::array<V3, 2> d{}, t{};
+    back = false;
+    int found = 0;
+    double spread = 1e30;
+    for (int axis = 0; axis < 2; ++axis) {
+      double best = 1e30;
+      V3 bd{0, 0, 0}, bt{0, 0, 0};
+      for (int sg = -1; sg <= 1; sg += 2) {
+        int nx = px + (axis == 0 ? sg : 0), ny = py + (axis == 1 ? sg : 0);
+        if (nx < 0 || ny < 0 || nx >= in.w || ny >= in.h) continue;
+        size_t j = size_t(ny) * in.w + nx;
+        if (in.fg[j] == 0.0f) continue;
+        V3 Pn = position(j);
+        V3 qn = project(Pn);
+        if (qn[2] <= 0) continue;
+        double dz = std::abs(qn[2] - q[2]);
+        if (dz < best) {
+          best = dz;
+          bd = {qn[0] - q[0], qn[1] - q[1], 1.0 / qn[2] - 1.0 / q[2]};
+          bt = {Pn[0] - P[0], Pn[1] - P[1], Pn[2] - P[2]};
+        }
+      }
+      if (best < 1e30) { t[size_t(found)] = bt; d[size_t(found++)] = bd; }
+      spread = std::min(spread, best);
+    }
+    if (spread >= 1e30) spread = 0.0;
+    if (found < 2) return {0, 0, spread};
+    if (s.has_camera) {
+      V3 nr = {t[0][1] * t[1][2] - t[0][2] * t[1][1], t[0][2] * t[1][0] - t[0][0] * t[1][2],
+               t[0][0] * t[1][1] - t[0][1] * t[1][0]};
+      auto dot_to = [&](const std::array<double, 3>& X) {
+        return nr[0] * (X[0] - P[0]) + nr[1] * (X[1] - P[1]) + nr[2] * (X[2] - P[2]);
+      };
+      double se = dot_to(s.eye) < 0 ? -1.0 : 1.0;
+      back = se * dot_to(light_pos) < 0;
+    }
+    double det = d[0][0] * d[1][1] - d[0][1] * d[1][0];
+    if (std::abs(det) < 1e-8) return {0, 0, spread};
+    return {(d[0][2] * d[1][1] - d[1][2] * d[0][1]) / det,
+            (d[0][0] * d[1][2] - d[1][0] * d[0][2]) / det, spread};
+  }
+  double threshold(const V3& q, const V3& g, double cx, double cy, double texel_world) const {
+    double ox = cx - q[0], oy = cy - q[1];
+    double iz = 1.0 / q[2] + g[0] * ox + g[1] * oy;
+    double zc = iz > 0 ? 1.0 / iz : 1e30;
+    double lim = s.slope_max * texel_world * std::sqrt(ox * ox + oy * oy);
+    zc = std::clamp(zc, q[2] - lim, q[2] + lim);
+    return zc - s.bias * texel_world - s.spread_bias * g[2];
+  }
+  bool in_map(double cx, double cy) const {
+    return cx >= 0 && cy >= 0 && cx < map.width && cy < map.height;
+  }
+  double fetch(double cx, double cy) const {
+    return map.z[size_t(cy) * size_t(map.width) + size_t(cx)];
+  }
+};
+
+// One method's GPU resources and passes (pcss: shadowmap.cpp, vssm: vssm.cpp, cssm: cssm.cpp).
+class ShadowmapMethod {
+ public:
+  virtual ~ShadowmapMethod() = default;
+  virtual void record(gpu::Sequence& seq, const gpu::Buffer& geo, const gpu::Buffer& fg,
+                      const gpu::Buffer& hard, const gpu::Buffer& map, const gpu::Buffer& soft,
+                      const std::string& label) = 0;
+  virtual ShadowmapStats stats() const = 0;
+  virtual uint64_t gpu_bytes() const = 0;  // the method's own buffers
+};
+
+std::unique_ptr<ShadowmapMethod> make_pcss(gpu::Context& ctx, const ShadowmapSettings& s,
+                                           const ShadowmapData& map, uint32_t w, uint32_t h,
+                                           bool has_position);
+std::unique_ptr<ShadowmapMethod> make_vssm(gpu::Context& ctx, const ShadowmapSettings& s,
+                                           const ShadowmapData& map, uint32_t w, uint32_t h,
+                                           bool has_position);
+std::unique_ptr<ShadowmapMethod> make_cssm(gpu::Context& ctx, const ShadowmapSettings& s,
+                                           const ShadowmapData& map, uint32_t w, uint32_t h,
+                                           bool has_position);
+
+// The counters every method adds to (SHADOWMAP_STAT_*), read back after the sequence ran.
+ShadowmapStats read_stats(const gpu::Buffer& stats);
+
+}  // namespace isg::effects::detail
