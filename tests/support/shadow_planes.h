@@ -1,0 +1,119 @@
+// The shadow-map methods' test scene: the light at the origin looking down -Z, an occluder
+// half-plane over a receiver plane (parallel: the closed-form penumbra), and the GPU run of one
+// method on it.
+#pragma once
+
+#include <algorithm>
+#include <cmath>
+#include <string>
+#include <vector>
+
+#include "effects/shadows/shadowmap.h"
+#include "gpu/gpu.h"
+
+namespace isg::test {
+namespace gpu = isg::gpu;
+namespace fx = isg::effects;
+
+inline constexpr double kPi = 3.14159265358979323846;
+
+// The light at the origin looking down -Z (world_to_light = identity), 90° map. An occluder
+// half-plane x < 0 at depth d_o; the receiver z = -(z_r + slope·x) (slope 0: parallel planes).
+struct Planes {
+  double d_o = 2.0, z_r = 4.0, slope = 0.0, R = 0.2;
+  int map = 256, w = 96, h = 96;
+  fx::ShadowmapData shadowmap() const {
+    std::vector<float> z(size_t(map) * map);
+    for (int j = 0; j < map; ++j)
+      for (int i = 0; i < map; ++i) {
+        double a = 2.0 * (i + 0.5) / map - 1.0;  // x/z at the texel centre (tan 45° = 1)
+        double s = z_r / (1.0 + slope * a);     // the receiver's planar depth along that ray
+        z[size_t(j) * map + i] = float(a < 0.0 ? d_o : s);
+      }
+    return fx::make_shadowmap(map, map, std::move(z));
+  }
+  // Receivers on a grid x, y ∈ [-1, 1] (as P).
+  fx::ShadowmapInputs inputs() const {
+    fx::ShadowmapInputs in;
+    in.w = w;
+    in.h = h;
+    const size_t n = size_t(w) * h;
+    in.position.resize(3 * n);
+    in.fg.assign(n, 1.0f);
+    in.hard.assign(n, 0.5f);
+    for (int y = 0; y < h; ++y)
+      for (int x = 0; x < w; ++x) {
+        size_t i = size_t(y) * w + x;
+        double px = 2.0 * (x + 0.5) / w - 1.0, py = 1.0 - 2.0 * (y + 0.5) / h;
+        in.position[i] = float(px);
+        in.position[n + i] = float(py);
+        in.position[2 * n + i] = float(-(z_r + slope * px));
+      }
+    return in;
+  }
+  // Closed form for the parallel planes: the part of the light disk seen past the edge.
+  double visible(double x) const {
+    double c = -x * d_o / (z_r - d_o);
+    if (c >= R) return 0.0;
+    if (c <= -R) return 1.0;
+    return (R * R * std::acos(c / R) - c * std::sqrt(R * R - c * c)) / (kPi * R * R);
+  }
+  fx::ShadowmapSettings settings(int taps, const std::string& pattern,
+                                 const std::string& method = "pcss") const {
+    fx::ShadowmapSettings s;
+    s.method = method;
+    s.yfov_deg = 90.0;
+    s.light_radius = R;
+    s.taps = taps;
+    s.pattern = pattern;
+    return s;
+  }
+};
+
+inline gpu::Buffer upload(gpu::Context& ctx, const std::vector<float>& v, const char* name) {
+  gpu::Buffer b(ctx, std::max<size_t>(v.size(), 1) * sizeof(float), name);
+  if (!v.empty()) b.upload(std::span<const float>(v));
+  return b;
+}
+
+inline std::vector<float> run_gpu(gpu::Context& ctx, const fx::ShadowmapInputs& in,
+                           const fx::ShadowmapData& map, const fx::ShadowmapSettings& s,
+                           fx::ShadowmapStats* stats) {
+  const bool has_p = !in.position.empty();
+  auto geo = upload(ctx, has_p ? in.position : in.depth, "geo");
+  auto fg = upload(ctx, in.fg, "fg"), hard = upload(ctx, in.hard, "hard"),
+       mb = upload(ctx, map.z, "map");
+  gpu::Buffer soft(ctx, in.fg.size() * sizeof(float), "soft");
+  fx::ShadowmapPass pass(ctx, s, map, uint32_t(in.w), uint32_t(in.h), has_p);
+  gpu::Sequence seq(ctx);
+  pass.record(seq, geo, fg, hard, mb, soft, "shadows." + s.method);
+  seq.submit();
+  if (stats) *stats = pass.stats();
+  return soft.download_as<float>(in.fg.size());
+}
+
+// Pixels where GPU and reference differ by more than 1e-3 (a tap landing in the other texel
+// through float rounding of floor(), or a blocker test at its threshold, moves one tap).
+inline size_t mismatches(const std::vector<float>& a, const std::vector<float>& b, double* max_diff) {
+  size_t bad = 0;
+  *max_diff = 0;
+  for (size_t i = 0; i < a.size(); ++i) {
+    double d = std::abs(double(a[i]) - b[i]);
+    *max_diff = std::max(*max_diff, d);
+    if (d > 1e-3) ++bad;
+  }
+  return bad;
+}
+
+// RMSE of `got` against the closed-form visibility of the parallel planes.
+inline double planes_rmse(const Planes& pl, const fx::ShadowmapInputs& in, const std::vector<float>& got) {
+  double e = 0;
+  for (int y = 0; y < in.h; ++y)
+    for (int x = 0; x < in.w; ++x) {
+      const size_t i = size_t(y) * in.w + x;
+      e += std::pow(got[i] - pl.visible(in.position[i]), 2);
+    }
+  return std::sqrt(e / double(in.w * in.h));
+}
+
+}  // namespace isg::test
