@@ -10,7 +10,7 @@ void main() {
   uint x = gl_GlobalInvocationID.x, y = gl_GlobalInvocationID.y;
   if (x >= pc.width || y >= pc.height) return;
   uint i = y * pc.width + x;
-  precise float v = min(src[i], pc.far_z);
+  precise float v = min(src[i], pc.far_z) - pc.shift;
   precise float w = pc.power == 2u ? v * v : v;
   precise float d = (w - pc.offset) * pc.scale;
   int q = int(floor(d + 0.5));

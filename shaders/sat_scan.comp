@@ -4,6 +4,8 @@
 // In-place inclusive prefix sums along rows (axis 0) or columns (axis 1), one workgroup a
 // line: each invocation sums its chunk, the chunk sums are scanned in shared memory
 // (Hillis-Steele), then each chunk is rewritten from its offset. 64-bit adds with carry.
+// A stack of width x height tables, one after the other, is scanned by one dispatch: the
+// workgroup's y index picks the table (0 for a single table).
 layout(local_size_x = SAT_LOCAL, local_size_y = 1) in;
 layout(std430, binding = 0) buffer Sat { uvec2 sat[]; };
 layout(push_constant) uniform Push { SatPush pc; };
@@ -22,7 +24,7 @@ void main() {
   bool live = line < lines;
   uint chunk = (len + SAT_LOCAL - 1u) / SAT_LOCAL;
   uint b = min(t * chunk, len), e = min(b + chunk, len);
-  uint base = pc.axis == 0u ? line * pc.width : line;
+  uint base = gl_WorkGroupID.y * pc.width * pc.height + (pc.axis == 0u ? line * pc.width : line);
   uint stride = pc.axis == 0u ? 1u : pc.width;
   uvec2 s = uvec2(0u);
   if (live)

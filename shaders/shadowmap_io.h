@@ -7,6 +7,7 @@ ISG_IO_BEGIN
 #define SHADOWMAP_STAT_PIXELS 0   // foreground pixels inside the map
 #define SHADOWMAP_STAT_SKIPPED 1  // of them: proven fully lit or in umbra, filter skipped
 #define SHADOWMAP_STAT_CLAMPED 2  // of them: kernel radius clamped to shadows.smap_max_radius
+#define SHADOWMAP_STAT_CONTACT 3  // of them: contact PCF (vssm, §7.5.4)
 #define SHADOWMAP_STATS 4
 // Soft shadows from the light's shadow map (shadows.method = pcss | vssm | cssm). Per light;
 // read by every shadowmap_* pass from a storage buffer (std430: scalars only, no padding).

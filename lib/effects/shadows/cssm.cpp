@@ -1,19 +1,413 @@
-// CSSM: not built yet.
+// CSSM, convolution soft shadow maps (thesis ch. 5): the shadow test expanded in a Fourier
+// series (eq. 5.2, 5.10) whose basis images are prefiltered once (SATs or mipmaps, §5.3.1), so
+// that the blocker search (CSM-Z, eq. 5.8, 5.11) and the penumbra filter are constant-time
+// lookups. The double reference and the GPU passes (shaders/shadowmap_cssm*.comp).
+//
+// Conventions shared by both:
+// - z ∈ [0, 1]: the map depth normalised over [min_depth, largest non-background depth];
+//   background texels are 1. d: the receiver-plane threshold at the pixel's own texel centre
+//   (bias included), normalised the same way and clamped to [0, 1].
+// - The expansion of the visibility f(x) = [x < 0], x = d − z, is, with c_k = π(2k − 1)
+//   (eq. 5.10 with Annen07's π), f_M(x) = 1/2 − Σ_k 2/c_k sin(c_k x); its period is 2.
+// - Ringing suppression (§5.2.3, Fig. 5.2c-d): s ↦ clamp(α (s − 1/2) + 1/2, 0, 1), α the
+//   smallest scale that lifts every ringing trough of f_M on the lit side to 1 (and, by
+//   symmetry, every crest on the shadowed side to 0): α = 1 / (2 f_M(−1/M) − 1), the first
+//   trough (1.121 for M = 4, 1.111 for 8, 1.108 for 16). The step is shifted by x0 so that an
+//   unoccluded receiver (x = 0) is fully lit after the scale: f_M(−x0) = 1/2 + 1/(2α)
+//   (x0 = 0.064, 0.033, 0.016 of the expansion's unit), and the depths are squeezed into
+//   ζ = s_z z, s_z = 1 − 2 x0, so that the shifted argument s_z (d − z) − x0 stays inside
+//   [−1 + x0, 1 − x0], away from the step the series repeats at ±1. Blockers nearer the
+//   receiver than 2 x0 / s_z of the depth range only partly shadow it: the contact leak that
+//   the sharpening of eq. 5.9 darkens.
+// - Kernels are square boxes in map texels of the area of the disk PCSS samples (half-width
+//   √π/2 · r), at least one texel wide, clipped to the map: SAT integrates the texel-constant
+//   basis exactly over the fractional box; mipmaps sample the level whose texel spans the box
+//   (bilinear, linear between levels, clamp to edge).
+#include <algorithm>
+#include <cmath>
 #include <stdexcept>
+#include <string>
 
 #include "effects/shadows/method.h"
+#include "effects/shadows/sat.h"
+#include "isg/shaders/shadowmap_cssm.spv.h"
+#include "isg/shaders/shadowmap_cssm_basis.spv.h"
+#include "isg/shaders/shadowmap_cssm_mip.spv.h"
+#include "shadowmap_cssm_io.h"
 
 namespace isg::effects {
 
-std::vector<float> cssm_reference(const ShadowmapInputs&, const ShadowmapData&,
-                                  const ShadowmapSettings&, ShadowmapStats*) {
-  throw std::logic_error("shadow-map method cssm not built");
+using detail::Geom;
+using detail::kPi;
+using detail::V3;
+
+namespace {
+
+constexpr double kBoxOfDisk = 0.886226925452758;  // √π / 2: a square of the disk's area
+constexpr double kMinHalfWidth = 0.5;              // texels: the box covers at least one texel
+constexpr double kMinBlockers = 1e-3;              // 1 − s_f below it: no blockers (eq. 5.8)
+
+// The truncated expansion f_M(x) of the visibility (eq. 5.10, f = 1 − f̄).
+double f_m(int M, double x) {
+  double s = 0.5;
+  for (int k = 1; k <= M; ++k) {
+    const double c = kPi * (2 * k - 1);
+    s -= 2.0 / c * std::sin(c * x);
+  }
+  return s;
+}
+
+// Everything both sides derive from the settings and the map (the CssmParams scalars).
+struct Setup {
+  int M = 4;
+  bool sat = true;
+  double alpha = 1.0, x0 = 0.0, s_z = 1.0, zmin = 0.0, zrange = 1.0;
+};
+
+Setup make_setup(const ShadowmapData& map, const ShadowmapSettings& s) {
+  Setup u;
+  u.M = s.cssm_order;
+  if (u.M < 1 || u.M > 64) throw std::invalid_argument("shadows.cssm_order out of range");
+  if (s.cssm_filter != "sat" && s.cssm_filter != "mipmap")
+    throw std::invalid_argument("shadows.cssm_filter must be sat or mipmap");
+  u.sat = s.cssm_filter == "sat";
+  // f_M's extrema lie at x = j / (2M); its lit-side troughs at even j (§5.2.3).
+  double trough = 1.0;
+  for (int j = 2; j <= 2 * u.M - 2; j += 2) trough = std::min(trough, f_m(u.M, -j / (2.0 * u.M)));
+  u.alpha = 1.0 / (2.0 * trough - 1.0);
+  const double target = 0.5 + 0.5 / u.alpha;
+  double lo = 0.0, hi = 1.0 / (2.0 * u.M);  // f_M(−t) rises monotonically to its first crest
+  for (int it = 0; it < 60; ++it) {
+    const double m = 0.5 * (lo + hi);
+    (f_m(u.M, -m) < target ? lo : hi) = m;
+  }
+  u.x0 = hi;
+  u.s_z = 1.0 - 2.0 * u.x0;
+  double zmax = -1.0;
+  for (float v : map.z)
+    if (v > 0.0f && v < ISG_BACKGROUND_DEPTH) zmax = std::max(zmax, double(v));
+  if (zmax < 0.0) return u;  // no blockers at all: every receiver is lit
+  u.zmin = map.min_depth;
+  u.zrange = std::max(zmax - u.zmin, 1e-6 * std::max(u.zmin, 1e-30));
+  return u;
+}
+
+double norm_depth(const Setup& u, double z) {
+  if (!(z > 0.0 && z < ISG_BACKGROUND_DEPTH)) return 1.0;
+  return std::clamp((z - u.zmin) / u.zrange, 0.0, 1.0);
+}
+
+struct Levels {
+  std::vector<int> w, h;
+};
+Levels mip_levels(int w, int h, bool sat) {
+  Levels L{{w}, {h}};
+  if (sat) return L;
+  while (L.w.back() > 1 || L.h.back() > 1) {
+    L.w.push_back(std::max(1, (L.w.back() + 1) / 2));
+    L.h.push_back(std::max(1, (L.h.back() + 1) / 2));
+  }
+  return L;
+}
+
+// The double mirror of the GPU's prefiltered basis: per layer, a SAT with a zero row and column
+// ((W+1) x (H+1)) or the mip chain.
+class Prefiltered {
+ public:
+  Prefiltered(const ShadowmapData& map, const Setup& u)
+      : u_(u), W_(map.width), H_(map.height), L_(mip_levels(map.width, map.height, u.sat)) {
+    const int layers = 4 * u.M + 1;
+    const size_t n = size_t(W_) * size_t(H_);
+    std::vector<std::vector<double>> base(static_cast<size_t>(layers), std::vector<double>(n));
+    for (size_t i = 0; i < n; ++i) {
+      const double z = norm_depth(u, map.z[i]), zeta = u.s_z * z;
+      for (int k = 0; k < u.M; ++k) {
+        const double c = kPi * (2 * k + 1);
+        const double cs = std::cos(c * zeta), sn = std::sin(c * zeta);
+        base[size_t(k)][i] = cs;
+        base[size_t(u.M + k)][i] = sn;
+        base[size_t(2 * u.M + k)][i] = z * cs;
+        base[size_t(3 * u.M + k)][i] = z * sn;
+      }
+      base[size_t(4 * u.M)][i] = z;
+    }
+    for (auto& b : base) {
+      if (u.sat) {
+        std::vector<double> t(size_t(W_ + 1) * size_t(H_ + 1), 0.0);
+        for (int y = 0; y < H_; ++y) {
+          double row = 0;
+          for (int x = 0; x < W_; ++x) {
+            row += b[size_t(y) * W_ + x];
+            t[size_t(y + 1) * (W_ + 1) + x + 1] = t[size_t(y) * (W_ + 1) + x + 1] + row;
+          }
+        }
+        tables_.push_back({std::move(t)});
+        continue;
+      }
+      std::vector<std::vector<double>> chain{std::move(b)};
+      for (size_t l = 1; l < L_.w.size(); ++l) {
+        const int w0 = L_.w[l - 1], h0 = L_.h[l - 1], w1 = L_.w[l], h1 = L_.h[l];
+        const auto& s = chain.back();
+        std::vector<double> d(size_t(w1) * h1);
+        for (int y = 0; y < h1; ++y)
+          for (int x = 0; x < w1; ++x) {
+            const int xa = 2 * x, xb = std::min(2 * x + 1, w0 - 1), ya = 2 * y,
+                      yb = std::min(2 * y + 1, h0 - 1);
+            d[size_t(y) * w1 + x] = 0.25 * (s[size_t(ya) * w0 + xa] + s[size_t(ya) * w0 + xb] +
+                                            s[size_t(yb) * w0 + xa] + s[size_t(yb) * w0 + xb]);
+          }
+        chain.push_back(std::move(d));
+      }
+      tables_.push_back(std::move(chain));
+    }
+  }
+
+  // The box average of one layer over half-width h about (qx, qy) (eq. 5.3: w * B_i).
+  double box(int layer, double qx, double qy, double h) const {
+    const auto& T = tables_[size_t(layer)];
+    if (u_.sat) {
+      const auto& t = T[0];
+      auto S = [&](int x, int y) { return t[size_t(y) * (W_ + 1) + x]; };
+      const double x0 = std::max(qx - h, 0.0), x1 = std::min(qx + h, double(W_));
+      const double y0 = std::max(qy - h, 0.0), y1 = std::min(qy + h, double(H_));
+      const int X0 = int(std::floor(x0)), X1 = int(std::floor(x1));
+      const int Y0 = int(std::floor(y0)), Y1 = int(std::floor(y1));
+      // Spans [X0, X1), cell X0, cell X1 with weights 1, −frac(x0), frac(x1): the exact
+      // integral of the texel-constant layer over [x0, x1].
+      const int xs[3][2] = {{X0, X1}, {X0, std::min(X0 + 1, W_)}, {X1, std::min(X1 + 1, W_)}};
+      const int ys[3][2] = {{Y0, Y1}, {Y0, std::min(Y0 + 1, H_)}, {Y1, std::min(Y1 + 1, H_)}};
+      const double wx[3] = {1.0, -(x0 - X0), x1 - X1}, wy[3] = {1.0, -(y0 - Y0), y1 - Y1};
+      double sum = 0;
+      for (int a = 0; a < 3; ++a)
+        for (int b = 0; b < 3; ++b)
+          sum += wx[a] * wy[b] *
+                 (S(xs[a][1], ys[b][1]) - S(xs[a][0], ys[b][1]) - S(xs[a][1], ys[b][0]) +
+                  S(xs[a][0], ys[b][0]));
+      return sum / ((x1 - x0) * (y1 - y0));
+    }
+    const int levels = int(L_.w.size());
+    const double lev = std::clamp(std::log2(2.0 * h), 0.0, double(levels - 1));
+    const int l0 = int(std::floor(lev)), l1 = std::min(l0 + 1, levels - 1);
+    const double t = lev - l0;
+    auto bilinear = [&](int l) {
+      const int lw = L_.w[size_t(l)], lh = L_.h[size_t(l)];
+      const double ux = qx * lw / W_ - 0.5, uy = qy * lh / H_ - 0.5;
+      const double ix = std::floor(ux), iy = std::floor(uy), fx = ux - ix, fy = uy - iy;
+      const int xa = std::clamp(int(ix), 0, lw - 1), xb = std::clamp(int(ix) + 1, 0, lw - 1);
+      const int ya = std::clamp(int(iy), 0, lh - 1), yb = std::clamp(int(iy) + 1, 0, lh - 1);
+      const auto& m = T[size_t(l)];
+      return (1 - fx) * (1 - fy) * m[size_t(ya) * lw + xa] + fx * (1 - fy) * m[size_t(ya) * lw + xb] +
+             (1 - fx) * fy * m[size_t(yb) * lw + xa] + fx * fy * m[size_t(yb) * lw + xb];
+    };
+    return (1 - t) * bilinear(l0) + t * bilinear(l1);
+  }
+
+ private:
+  const Setup& u_;
+  int W_, H_;
+  Levels L_;
+  std::vector<std::vector<std::vector<double>>> tables_;  // [layer][level][texel]
+};
+
+double suppress(const Setup& u, double s) {  // §5.2.3
+  return std::clamp(u.alpha * (s - 0.5) + 0.5, 0.0, 1.0);
+}
+
+}  // namespace
+
+std::vector<float> cssm_reference(const ShadowmapInputs& in, const ShadowmapData& map,
+                                  const ShadowmapSettings& s, ShadowmapStats* stats) {
+  Geom G(in, map, s);
+  const Setup u = make_setup(map, s);
+  const Prefiltered pf(map, u);
+  const int M = u.M;
+  std::vector<float> out(G.n);
+  ShadowmapStats st;
+  const double k = s.light_radius * map.height / (2.0 * G.tan_y);
+  for (int py = 0; py < in.h; ++py) {
+    for (int px = 0; px < in.w; ++px) {
+      const size_t i = size_t(py) * in.w + px;
+      if (in.fg[i] == 0.0f) { out[i] = in.hard[i]; continue; }
+      const V3 P = G.position(i), q = G.project(P);
+      if (!G.inside(q)) { out[i] = in.hard[i]; continue; }
+      ++st.pixels;
+      bool back = false;
+      const V3 g = G.receiver_plane(px, py, q, P, back);
+      if (back) { ++st.skipped; out[i] = in.hard[i]; continue; }
+      const double texel_world = 2.0 * q[2] * G.tan_y / map.height;
+      const double cx = std::floor(q[0]) + 0.5, cy = std::floor(q[1]) + 0.5;
+      const double d =
+          std::clamp((G.threshold(q, g, cx, cy, texel_world) - u.zmin) / u.zrange, 0.0, 1.0);
+      const double delta = u.s_z * d - u.x0;
+      // Prefiltered CSM (eq. 5.3, 5.10): the raw filtered visibility s_f over half-width h.
+      auto visibility = [&](double h) {
+        double sf = 0.5;
+        for (int j = 0; j < M; ++j) {
+          const double c = kPi * (2 * j + 1);
+          sf -= 2.0 / c *
+                (std::sin(c * delta) * pf.box(j, q[0], q[1], h) -
+                 std::cos(c * delta) * pf.box(M + j, q[0], q[1], h));
+        }
+        return sf;
+      };
+      // Blocker search (Fig. 5.1a): the PCSS region as a box of the same area.
+      const double rs = std::min(k * std::max(1.0 / map.min_depth - 1.0 / q[2], 0.0), s.max_radius);
+      const double hs = std::max(kBoxOfDisk * rs, kMinHalfWidth);
+      const double sf = visibility(hs);
+      if (suppress(u, sf) >= 1.0 || 1.0 - sf < kMinBlockers) {
+        ++st.skipped;  // no blockers: fully lit
+        out[i] = 1.0f;
+        continue;
+      }
+      // CSM-Z (eq. 5.11), then z_avg (eq. 5.8).
+      double num = 0.5 * pf.box(4 * M, q[0], q[1], hs);
+      for (int j = 0; j < M; ++j) {
+        const double c = kPi * (2 * j + 1);
+        num += 2.0 / c *
+               (std::sin(c * delta) * pf.box(2 * M + j, q[0], q[1], hs) -
+                std::cos(c * delta) * pf.box(3 * M + j, q[0], q[1], hs));
+      }
+      const double z_avg = std::clamp(num / (1.0 - sf), 0.0, d);
+      const double zb = u.zmin + z_avg * u.zrange;
+      // Penumbra width (§5.3.1): rf = k (1/z_avg − 1/d), in texels.
+      double rf = k * std::max(1.0 / zb - 1.0 / q[2], 0.0);
+      if (rf > s.max_radius) { rf = s.max_radius; ++st.clamped; }
+      const double v = suppress(u, visibility(std::max(kBoxOfDisk * rf, kMinHalfWidth)));
+      const double p = 1.0 + s.cssm_a * std::exp(-s.cssm_b * (d - z_avg));  // eq. 5.9
+      out[i] = float(std::pow(v, p));
+    }
+  }
+  if (stats) *stats = st;
+  return out;
 }
 
 namespace detail {
-std::unique_ptr<ShadowmapMethod> make_cssm(gpu::Context&, const ShadowmapSettings&,
-                                           const ShadowmapData&, uint32_t, uint32_t, bool) {
-  throw std::logic_error("shadow-map method cssm not built");
+namespace {
+// CSSM on the GPU: basis images (one dispatch for all 4M + 1 layers), prefiltering (the SAT
+// scans over the layer stack, or one dispatch per mip level), then the shading kernel.
+class Cssm final : public ShadowmapMethod {
+ public:
+  Cssm(gpu::Context& ctx, const ShadowmapSettings& s, const ShadowmapData& map, uint32_t w,
+       uint32_t h, bool has_position)
+      : basis_(ctx, "shadows.cssm.basis", isg_spv_shadowmap_cssm_basis,
+               std::vector<gpu::Slot>(2 + CSSM_CHUNKS, gpu::Slot::buffer),
+               sizeof(shaders::CssmPush), CSSM_LOCAL, CSSM_LOCAL),
+        mip_(ctx, "shadows.cssm.mip", isg_spv_shadowmap_cssm_mip,
+             std::vector<gpu::Slot>(1 + CSSM_CHUNKS, gpu::Slot::buffer), sizeof(shaders::CssmPush),
+             CSSM_LOCAL, CSSM_LOCAL),
+        shade_(ctx, "shadows.cssm", isg_spv_shadowmap_cssm,
+               std::vector<gpu::Slot>(8 + CSSM_CHUNKS, gpu::Slot::buffer),
+               sizeof(shaders::ShadowmapPush),
+               SHADOWMAP_LOCAL, SHADOWMAP_LOCAL),
+        sat_(ctx), w_(w), h_(h), map_w_(uint32_t(map.width)), map_h_(uint32_t(map.height)) {
+    const Setup u = make_setup(map, s);
+    const Levels L = mip_levels(map.width, map.height, u.sat);
+    if (L.w.size() > CSSM_MAX_LEVELS) throw std::invalid_argument("cssm: shadow map too large");
+    shaders::CssmParams c{};
+    c.order = uint32_t(u.M);
+    c.prefilter = u.sat ? CSSM_FILTER_SAT : CSSM_FILTER_MIPMAP;
+    c.layers = uint32_t(4 * u.M + 1);
+    c.levels = uint32_t(L.w.size());
+    c.zmin = float(u.zmin);
+    c.zrange = float(u.zrange);
+    c.s_z = float(u.s_z);
+    c.x0 = float(u.x0);
+    c.alpha = float(u.alpha);
+    c.sharpen_a = float(s.cssm_a);
+    c.sharpen_b = float(s.cssm_b);
+    // Every basis value lies in [−1, 1]: 2^30 integer units per unit keeps each entry below
+    // 2^30 and any table sum (up to 2^30 · texels) exact in 64 bits, with no offset.
+    c.sat_scale = float(std::ldexp(1.0, 30) / 1.001);
+    // Layer size in uints: the SAT (2 a texel) or the whole mip chain (1 a texel).
+    uint64_t elems = 0;
+    for (size_t l = 0; l < L.w.size(); ++l) {
+      c.level_w[l] = uint32_t(L.w[l]);
+      c.level_h[l] = uint32_t(L.h[l]);
+      c.level_off[l] = uint32_t(elems);
+      elems += uint64_t(L.w[l]) * uint64_t(L.h[l]) * (u.sat ? 2u : 1u);
+    }
+    // The layers over as few buffers as the device's storage buffer range allows.
+    const uint64_t layer_bytes = elems * 4u;
+    const uint64_t per = std::min<uint64_t>(ctx.info().max_storage_buffer_range / layer_bytes,
+                                            c.layers);
+    const uint64_t chunks = per ? (c.layers + per - 1) / per : CSSM_CHUNKS + 1;
+    if (chunks > CSSM_CHUNKS)
+      throw std::invalid_argument(
+          "cssm: the " + std::to_string(c.layers) + " basis images of a " +
+          std::to_string(map.width) + "x" + std::to_string(map.height) +
+          " shadow map exceed the device's storage buffers; lower shadows.cssm_order or use "
+          "shadows.cssm_filter=mipmap");
+    c.chunk_layers = uint32_t(per);
+    c.layer_elems = uint32_t(elems);
+    cparams_ = c;
+    const shaders::ShadowmapParams p = shadowmap_params(s, map, w, h, has_position, 0u);
+    params_ = gpu::Buffer(ctx, sizeof(p), "shadowmap.params");
+    params_.upload(&p, sizeof(p));
+    cssm_params_ = gpu::Buffer(ctx, sizeof(c), "shadowmap.cssm.params");
+    cssm_params_.upload(&c, sizeof(c));
+    for (uint32_t first = 0; first < c.layers; first += c.chunk_layers) {
+      const uint32_t n = std::min(c.chunk_layers, c.layers - first);
+      tables_.emplace_back(ctx, n * layer_bytes, u.sat ? "shadowmap.cssm.sat" : "shadowmap.cssm.mip");
+      chunk_sizes_.push_back(n);
+    }
+    unused_ = gpu::Buffer(ctx, 16, "shadowmap.cssm.unused");
+    std::vector<uint32_t> zero(SHADOWMAP_STATS, 0u);
+    stats_ = gpu::Buffer(ctx, zero.size() * sizeof(uint32_t), "shadowmap.stats");
+    stats_.upload(std::span<const uint32_t>(zero));
+  }
+
+  void record(gpu::Sequence& seq, const gpu::Buffer& geo, const gpu::Buffer& fg,
+              const gpu::Buffer& hard, const gpu::Buffer& map, const gpu::Buffer& soft,
+              const std::string& label) override {
+    const auto& c = cparams_;
+    auto with_tables = [&](std::vector<gpu::Binding> b) {
+      for (size_t k = 0; k < CSSM_CHUNKS; ++k)
+        b.push_back(gpu::Binding::of(k < tables_.size() ? tables_[k] : unused_));
+      return b;
+    };
+    shaders::CssmPush bp{map_w_, map_h_, 0u, 0u};
+    seq.dispatch(basis_, with_tables({gpu::Binding::of(cssm_params_), gpu::Binding::of(map)}), bp,
+                 map_w_, map_h_, label + ".basis");
+    if (c.prefilter == CSSM_FILTER_SAT) {
+      for (size_t k = 0; k < tables_.size(); ++k)
+        sat_.record_scan(seq, tables_[k], map_w_, map_h_, chunk_sizes_[k], label + ".sat");
+    } else {
+      for (uint32_t l = 1; l < c.levels; ++l) {
+        shaders::CssmPush mp{c.level_w[l], c.level_h[l], l, 0u};
+        seq.dispatch(mip_, with_tables({gpu::Binding::of(cssm_params_)}), mp, c.level_w[l],
+                     c.level_h[l] * c.layers, label + ".mip");
+      }
+    }
+    shaders::ShadowmapPush pc{w_, h_};
+    seq.dispatch(shade_,
+                 with_tables({gpu::Binding::of(params_), gpu::Binding::of(cssm_params_),
+                              gpu::Binding::of(geo), gpu::Binding::of(fg), gpu::Binding::of(hard),
+                              gpu::Binding::of(map), gpu::Binding::of(soft),
+                              gpu::Binding::of(stats_)}),
+                 pc, w_, h_, label);
+  }
+  ShadowmapStats stats() const override { return read_stats(stats_); }
+  uint64_t gpu_bytes() const override {
+    uint64_t b = params_.size() + cssm_params_.size() + unused_.size() + stats_.size();
+    for (const auto& t : tables_) b += t.size();
+    return b;
+  }
+
+ private:
+  gpu::Kernel basis_, mip_, shade_;
+  SatPass sat_;
+  gpu::Buffer params_, cssm_params_, unused_, stats_;
+  std::vector<gpu::Buffer> tables_;      // the basis layers, chunk_layers a buffer
+  std::vector<uint32_t> chunk_sizes_;
+  shaders::CssmParams cparams_{};
+  uint32_t w_, h_, map_w_, map_h_;
+};
+}  // namespace
+
+std::unique_ptr<ShadowmapMethod> make_cssm(gpu::Context& ctx, const ShadowmapSettings& s,
+                                           const ShadowmapData& map, uint32_t w, uint32_t h,
+                                           bool has_position) {
+  return std::make_unique<Cssm>(ctx, s, map, w, h, has_position);
 }
 }  // namespace detail
 

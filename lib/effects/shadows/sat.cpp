@@ -9,13 +9,15 @@
 
 namespace isg::effects {
 
-SatFixedPoint sat_fixed_point(const std::vector<float>& z, int power, double far_z) {
+SatFixedPoint sat_fixed_point(const std::vector<float>& z, int power, double far_z,
+                              double shift) {
   SatFixedPoint fp;
   fp.power = power;
   fp.far_z = far_z;
+  fp.shift = double(float(shift));  // what the shader subtracts
   double sum = 0, lo = 1e300, hi = -1e300;
   for (float v : z) {
-    double c = std::min(double(v), far_z);
+    double c = std::min(double(v), far_z) - fp.shift;
     double w = power == 2 ? c * c : c;
     sum += w;
     lo = std::min(lo, w);
@@ -49,12 +51,21 @@ SatPass::SatPass(gpu::Context& ctx)
 void SatPass::record(gpu::Sequence& seq, const gpu::Buffer& map, const gpu::Buffer& sat,
                      uint32_t w, uint32_t h, const SatFixedPoint& fp, const std::string& label) {
   shaders::SatPush pc{w, h, 0u, uint32_t(fp.power), float(fp.offset), float(fp.scale),
-                      float(std::min(fp.far_z, 1e30)), 0.0f};
+                      float(std::min(fp.far_z, 1e30)), float(fp.shift)};
   seq.dispatch(quantize_, {gpu::Binding::of(map), gpu::Binding::of(sat)}, pc, w, h,
                label + ".quantize");
   seq.dispatch(scan_, {gpu::Binding::of(sat)}, pc, SAT_LOCAL * h, 1, label + ".rows");
   pc.axis = 1u;
   seq.dispatch(scan_, {gpu::Binding::of(sat)}, pc, SAT_LOCAL * w, 1, label + ".columns");
+}
+
+void SatPass::record_scan(gpu::Sequence& seq, const gpu::Buffer& sat, uint32_t w, uint32_t h,
+                          uint32_t layers, const std::string& label) {
+  shaders::SatPush pc{w, h, 0u, 1u, 0.0f, 1.0f, 1e30f, 0.0f};
+  // One workgroup a line; the second dispatch dimension walks the stacked tables.
+  seq.dispatch(scan_, {gpu::Binding::of(sat)}, pc, SAT_LOCAL * h, layers, label + ".rows");
+  pc.axis = 1u;
+  seq.dispatch(scan_, {gpu::Binding::of(sat)}, pc, SAT_LOCAL * w, layers, label + ".columns");
 }
 
 }  // namespace isg::effects

@@ -16,10 +16,12 @@ struct SatFixedPoint {
   double offset = 0.0;   // subtracted before scaling (the mean of min(z, far)^power)
   double scale = 1.0;    // integer units per unit of value
   double far_z = 1e30;   // depths are clamped to it first (no-hit texels)
+  double shift = 0.0;    // then shifted: (min(z, far) − shift)^power (z² about the mean: VSSM)
 };
 
 // Offset and scale for a w x h map: the mean, and the largest |deviation| mapped to 2^30.
-SatFixedPoint sat_fixed_point(const std::vector<float>& z, int power, double far_z);
+SatFixedPoint sat_fixed_point(const std::vector<float>& z, int power, double far_z,
+                              double shift = 0.0);
 
 // Rectangle sum [x0, x1) x [y0, y1) of a table of int64 (row-major, inclusive prefix sums), in
 // value units (offset added back).
@@ -32,6 +34,10 @@ class SatPass {
   // Records quantize, row scan and column scan: `sat` (w·h·8 bytes) from `map` (w·h floats).
   void record(gpu::Sequence& seq, const gpu::Buffer& map, const gpu::Buffer& sat, uint32_t w,
               uint32_t h, const SatFixedPoint& fp, const std::string& label);
+  // Records the row and column scans only, in place, over `layers` w x h tables stored one
+  // after the other in `sat` (entries already quantized, e.g. by a method's own kernel).
+  void record_scan(gpu::Sequence& seq, const gpu::Buffer& sat, uint32_t w, uint32_t h,
+                   uint32_t layers, const std::string& label);
 
  private:
   gpu::Kernel quantize_, scan_;

@@ -214,6 +214,7 @@ ShadowmapStats read_stats(const gpu::Buffer& stats) {
   s.pixels = v[SHADOWMAP_STAT_PIXELS];
   s.skipped = v[SHADOWMAP_STAT_SKIPPED];
   s.clamped = v[SHADOWMAP_STAT_CLAMPED];
+  s.contact = v[SHADOWMAP_STAT_CONTACT];
   return s;
 }
 

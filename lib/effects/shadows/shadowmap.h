@@ -83,7 +83,7 @@ struct ShadowmapInputs {
 };
 
 struct ShadowmapStats {
-  uint64_t pixels = 0, skipped = 0, clamped = 0;
+  uint64_t pixels = 0, skipped = 0, clamped = 0, contact = 0;
   double skipped_fraction() const { return pixels ? double(skipped) / double(pixels) : 0.0; }
 };
 

@@ -1,19 +1,427 @@
-// VSSM: not built yet.
-#include <stdexcept>
+// Variance soft shadow maps (thesis ch. 7): the GPU method (passes shadows.vssm.hsm, the two
+// SATs, shadows.vssm) and its double-precision mirror. The per-pixel algorithm is commented in
+// shaders/shadowmap_vssm.comp; this file follows it line for line.
+#include <algorithm>
+#include <cmath>
 
 #include "effects/shadows/method.h"
+#include "effects/shadows/sat.h"
+#include "isg/shaders/shadowmap_hsm.spv.h"
+#include "isg/shaders/shadowmap_vssm.spv.h"
+#include "shadowmap_io.h"
+#include "shadowmap_vssm_io.h"
 
 namespace isg::effects {
 
-std::vector<float> vssm_reference(const ShadowmapInputs&, const ShadowmapData&,
-                                  const ShadowmapSettings&, ShadowmapStats*) {
-  throw std::logic_error("shadow-map method vssm not built");
+namespace {
+using detail::Geom;
+using detail::V3;
+
+// What both sides derive from the map and the settings.
+struct VssmSetup {
+  double far_z = 0, z0 = 0;
+  std::vector<int> level_w, level_h;
+  std::vector<size_t> level_off;
+  size_t hsm_texels = 0;
+};
+
+VssmSetup vssm_setup(const ShadowmapData& map) {
+  VssmSetup v;
+  double far = 0, sum = 0;
+  for (float z : map.z)
+    if (z > 0.0f && z < ISG_BACKGROUND_DEPTH) far = std::max(far, double(z));
+  if (far <= 0) far = 1.0;
+  v.far_z = double(float(far));
+  for (float z : map.z) sum += std::min(double(z), v.far_z);
+  v.z0 = double(float(map.z.empty() ? 0.0 : sum / double(map.z.size())));
+  int w = map.width, h = map.height;
+  for (;;) {
+    v.level_off.push_back(v.hsm_texels);
+    v.level_w.push_back(w);
+    v.level_h.push_back(h);
+    v.hsm_texels += size_t(w) * size_t(h);
+    if ((w == 1 && h == 1) || int(v.level_w.size()) == VSSM_MAX_LEVELS) break;
+    w = (w + 1) / 2;
+    h = (h + 1) / 2;
+  }
+  return v;
+}
+
+int leaf_grid(const ShadowmapSettings& s) {
+  return s.vssm_leaf_taps <= 0 ? 0 : std::max(1, int(std::lround(std::sqrt(double(s.vssm_leaf_taps)))));
+}
+
+// The double mirror: HSM, the two prefix-sum tables, and the per-pixel algorithm.
+struct VssmRef {
+  const Geom& G;
+  const ShadowmapSettings& s;
+  VssmSetup v;
+  std::vector<std::array<float, 2>> hsm;
+  std::vector<double> s1, s2;  // (w+1) x (h+1) prefix sums of z and (z − z0)²
+  int W, Hh, grid;
+  double flat, contact;
+
+  VssmRef(const Geom& g, const ShadowmapSettings& st)
+      : G(g), s(st), v(vssm_setup(g.map)), W(g.map.width), Hh(g.map.height), grid(leaf_grid(st)) {
+    flat = s.vssm_flat * s.scene_radius;
+    contact = s.vssm_contact * s.scene_radius;
+    hsm.resize(v.hsm_texels);
+    for (size_t i = 0; i < G.map.z.size(); ++i) {
+      float z = std::min(G.map.z[i], float(v.far_z));
+      hsm[i] = {z, z};
+    }
+    for (size_t L = 1; L < v.level_w.size(); ++L)
+      for (int y = 0; y < v.level_h[L]; ++y)
+        for (int x = 0; x < v.level_w[L]; ++x) {
+          std::array<float, 2> r{1e30f, -1e30f};
+          for (int yy = 2 * y; yy < std::min(2 * y + 2, v.level_h[L - 1]); ++yy)
+            for (int xx = 2 * x; xx < std::min(2 * x + 2, v.level_w[L - 1]); ++xx) {
+              const auto& c = hsm[v.level_off[L - 1] + size_t(yy) * v.level_w[L - 1] + xx];
+              r = {std::min(r[0], c[0]), std::max(r[1], c[1])};
+            }
+          hsm[v.level_off[L] + size_t(y) * v.level_w[L] + x] = r;
+        }
+    s1.assign(size_t(W + 1) * (Hh + 1), 0.0);
+    s2 = s1;
+    for (int y = 0; y < Hh; ++y) {
+      double r1 = 0, r2 = 0;
+      for (int x = 0; x < W; ++x) {
+        const double z = std::min(double(G.map.z[size_t(y) * W + x]), v.far_z);
+        r1 += z;
+        r2 += (z - v.z0) * (z - v.z0);
+        s1[size_t(y + 1) * (W + 1) + x + 1] = s1[size_t(y) * (W + 1) + x + 1] + r1;
+        s2[size_t(y + 1) * (W + 1) + x + 1] = s2[size_t(y) * (W + 1) + x + 1] + r2;
+      }
+    }
+  }
+
+  using F2 = std::array<double, 2>;
+  std::array<double, 2> hsm_range(F2 flo, F2 fhi) const {
+    const int lx = int(std::floor(flo[0])), ly = int(std::floor(flo[1]));
+    const int hx = std::max(int(std::ceil(fhi[0])), lx + 1), hy = std::max(int(std::ceil(fhi[1])), ly + 1);
+    const int size = std::max(hx - lx, hy - ly);
+    size_t L = 0;
+    while ((1 << L) < size && L + 1 < v.level_w.size()) ++L;
+    std::array<double, 2> r{1e30, -1e30};
+    for (int y = ly >> L; y <= (hy - 1) >> L; ++y)
+      for (int x = lx >> L; x <= (hx - 1) >> L; ++x) {
+        const auto& c = hsm[v.level_off[L] + size_t(y) * v.level_w[L] + x];
+        r = {std::min(r[0], double(c[0])), std::max(r[1], double(c[1]))};
+      }
+    return r;
+  }
+  // Σ over texels of (covered fraction) · value: the box filter of [lo, hi) on the texel grid.
+  double box_sum(const std::vector<double>& t, F2 lo, F2 hi) const {
+    auto R = [&](int x, int y) { return t[size_t(y) * (W + 1) + x]; };
+    auto runs = [](double a, double b, std::array<int, 3>& from, std::array<int, 3>& to,
+                   std::array<double, 3>& wt) {
+      const int i0 = int(std::floor(a)), i1 = int(std::ceil(b)) - 1;
+      if (i0 >= i1) { from = {i0, 0, 0}; to = {i0 + 1, 0, 0}; wt = {b - a, 0, 0}; return; }
+      from = {i0, i0 + 1, i1};
+      to = {i0 + 1, i1, i1 + 1};
+      wt = {double(i0 + 1) - a, 1.0, b - double(i1)};
+    };
+    std::array<int, 3> fx, tx, fy, ty;
+    std::array<double, 3> wx, wy;
+    runs(lo[0], hi[0], fx, tx, wx);
+    runs(lo[1], hi[1], fy, ty, wy);
+    double sum = 0;
+    for (int j = 0; j < 3; ++j) {
+      if (ty[size_t(j)] <= fy[size_t(j)]) continue;
+      for (int i = 0; i < 3; ++i) {
+        if (tx[size_t(i)] <= fx[size_t(i)]) continue;
+        const int x0 = fx[size_t(i)], x1 = tx[size_t(i)], y0 = fy[size_t(j)], y1 = ty[size_t(j)];
+        sum += wx[size_t(i)] * wy[size_t(j)] * (R(x1, y1) - R(x0, y1) - R(x1, y0) + R(x0, y0));
+      }
+    }
+    return sum;
+  }
+  struct Moments { double T, ez, ez2; };
+  Moments moments(F2 lo, F2 hi) const {
+    const double T = (hi[0] - lo[0]) * (hi[1] - lo[1]);
+    return {T, box_sum(s1, lo, hi) / T, box_sum(s2, lo, hi) / T};
+  }
+  double variance(double ez, double ez2) const {
+    return std::max(ez2 - (ez - v.z0) * (ez - v.z0), 0.0);
+  }
+  static void cell(F2 a, F2 b, int n, int ix, int iy, F2& lo, F2& hi) {
+    const double sx = (b[0] - a[0]) / n, sy = (b[1] - a[1]) / n;
+    lo = {a[0] + sx * ix, a[1] + sy * iy};
+    hi = {a[0] + sx * (ix + 1), a[1] + sy * (iy + 1)};
+  }
+  static bool empty(F2 lo, F2 hi) { return hi[0] - lo[0] < 1e-3 || hi[1] - lo[1] < 1e-3; }
+  double pcf(F2 lo, F2 hi, int g, const V3& q, const V3& gr, double tw, double& nb,
+             double& zb) const {
+    nb = zb = 0;
+    for (int j = 0; j < g; ++j)
+      for (int i = 0; i < g; ++i) {
+        const double cx = std::min(std::floor(lo[0] + (i + 0.5) / g * (hi[0] - lo[0])), double(W - 1)) + 0.5;
+        const double cy = std::min(std::floor(lo[1] + (j + 0.5) / g * (hi[1] - lo[1])), double(Hh - 1)) + 0.5;
+        const double z = G.fetch(cx, cy);
+        if (z < G.threshold(q, gr, cx, cy, tw)) { nb += 1; zb += z; }
+      }
+    return 1.0 - nb / double(g * g);
+  }
+  void square(const V3& q, double r, F2& lo, F2& hi) const {
+    r = std::max(r, 0.5);
+    lo = {std::max(q[0] - r, 0.0), std::max(q[1] - r, 0.0)};
+    hi = {std::min(q[0] + r, double(W)), std::min(q[1] + r, double(Hh))};
+  }
+  double threshold_at(const V3& q, const V3& g, F2 lo, F2 hi, double tw) const {
+    return G.threshold(q, g, 0.5 * (lo[0] + hi[0]), 0.5 * (lo[1] + hi[1]), tw);
+  }
+
+  std::array<double, 2> threshold_range(const V3& q, const V3& g, F2 lo, F2 hi, double tw) const {
+    double zmin = 1e30, zmax = -1e30, far = 0;
+    for (int k = 0; k < 4; ++k) {
+      const double ox = ((k & 1) ? hi[0] : lo[0]) - q[0], oy = ((k & 2) ? hi[1] : lo[1]) - q[1];
+      const double iz = 1.0 / q[2] + g[0] * ox + g[1] * oy;
+      const double zc = iz > 0 ? 1.0 / iz : 1e30;
+      zmin = std::min(zmin, zc);
+      zmax = std::max(zmax, zc);
+      far = std::max(far, std::sqrt(ox * ox + oy * oy));
+    }
+    const double lim = s.slope_max * tw * far, b = s.bias * tw + s.spread_bias * g[2];
+    return {std::max(q[2] - lim, std::min(zmin, q[2])) - b, std::min(q[2] + lim, std::max(q[2], zmax)) - b};
+  }
+  int hsm_verdict(const V3& q, const V3& g, F2 lo, F2 hi, double tw) const {
+    const auto zr = hsm_range(lo, hi);
+    const auto tr = threshold_range(q, g, lo, hi, tw);
+    return zr[0] >= tr[1] ? 1 : (zr[1] < tr[0] ? -1 : 0);
+  }
+
+  // One pixel inside the map, not back-facing.
+  double shade(int px, int py, const V3& q, const V3& g, ShadowmapStats& st) const {
+    const double tw = 2.0 * q[2] * G.tan_y / G.map.height;
+    const double k = s.light_radius * G.map.height / (2.0 * G.tan_y);
+    const double rs = std::min(k * std::max(1.0 / G.map.min_depth - 1.0 / q[2], 0.0), s.max_radius);
+    (void)px;
+    (void)py;
+    F2 a, b;
+    square(q, rs, a, b);
+    const double lim = s.slope_max * tw * (rs + 1.0) * 1.5;
+    const double unbias = s.bias * tw + s.spread_bias * g[2];
+    const double base = q[2] - s.bias * tw - s.spread_bias * g[2];
+    const auto zr = hsm_range(a, b);
+    if (zr[0] >= base + lim) { ++st.skipped; return 1.0; }
+    if (zr[1] < base - lim) { ++st.skipped; return 0.0; }
+    double sA = 0, sZ = 0, sZ2 = 0, sT = 0, bPcf = 0, zPcf = 0;
+    const int m = s.vssm_m;
+    for (int iy = 0; iy < m; ++iy)
+      for (int ix = 0; ix < m; ++ix) {
+        F2 lo, hi;
+        cell(a, b, m, ix, iy, lo, hi);
+        if (empty(lo, hi)) continue;
+        const int hv = hsm_verdict(q, g, lo, hi, tw);
+        if (hv > 0) continue;
+        const Moments mo = moments(lo, hi);
+        const double t = threshold_at(q, g, lo, hi, tw);
+        if (hv < 0) {
+          bPcf += mo.T; zPcf += mo.ez * mo.T;
+        } else if (mo.ez < t) {
+          sA += mo.T; sZ += mo.ez * mo.T; sZ2 += mo.ez2 * mo.T; sT += (t + unbias) * mo.T;
+        } else if (variance(mo.ez, mo.ez2) >= flat && grid > 0) {
+          double nb, zb;
+          pcf(lo, hi, grid, q, g, tw, nb, zb);
+          const double n = double(grid * grid);
+          bPcf += mo.T * nb / n;
+          zPcf += mo.T * zb / n;
+        }
+      }
+    double bVsm = 0, zVsm = 0;
+    if (sA > 0) {
+      const double mu = sZ / sA, t = sT / sA, var = variance(mu, sZ2 / sA);
+      if (mu < t) {
+        const double lit = var / (var + (t - mu) * (t - mu));
+        if (lit < 1.0 - 1e-6) {
+          bVsm = (1.0 - lit) * sA;
+          zVsm = (mu - lit * t) / (1.0 - lit) * bVsm;
+        }
+      }
+    }
+    if (bVsm + bPcf <= 0) { ++st.skipped; return 1.0; }
+    const double zavg = std::clamp((zVsm + zPcf) / (bVsm + bPcf), G.map.min_depth, q[2]);
+    double rf = k * std::max(1.0 / zavg - 1.0 / q[2], 0.0);
+    if (rf > s.max_radius) { rf = s.max_radius; ++st.clamped; }
+    square(q, 0.886226925452758 * rf, a, b);
+    if (q[2] - zavg < contact) {
+      ++st.contact;
+      double nb, zb;
+      square(q, std::max(rf, 1.0), a, b);
+      return pcf(a, b, 3, q, g, tw, nb, zb);
+    }
+    double lA = 0, uA = 0, pA = 0, pLit = 0;
+    sA = sZ = sZ2 = sT = 0;
+    int level = 0, nx = 0, ny = 0;
+    for (;;) {
+      F2 lo, hi;
+      cell(a, b, 1 << level, nx, ny, lo, hi);
+      bool down = false;
+      const int hv = empty(lo, hi) ? 2 : hsm_verdict(q, g, lo, hi, tw);
+      const double T = (hi[0] - lo[0]) * (hi[1] - lo[1]);
+      if (hv == 1) {
+        lA += T;
+      } else if (hv == -1) {
+        uA += T;
+      } else if (hv == 0) {
+        const Moments mo = moments(lo, hi);
+        const double t = threshold_at(q, g, lo, hi, tw);
+        const double var = variance(mo.ez, mo.ez2);
+        if (mo.ez >= t && var < flat) {
+          lA += mo.T;
+        } else if (mo.ez < t) {
+          sA += mo.T; sZ += mo.ez * mo.T; sZ2 += mo.ez2 * mo.T; sT += (t + unbias) * mo.T;
+        } else if (level < s.vssm_h) {
+          down = true;
+        } else if (grid > 0) {
+          double nb, zb;
+          pLit += mo.T * pcf(lo, hi, grid, q, g, tw, nb, zb);
+          pA += mo.T;
+        } else {
+          lA += mo.T;
+        }
+      }
+      if (down) { ++level; nx *= 2; ny *= 2; continue; }
+      bool done = false;
+      for (;;) {
+        if (level == 0) { done = true; break; }
+        if ((nx & 1) == 0) { ++nx; break; }
+        if ((ny & 1) == 0) { --nx; ++ny; break; }
+        --level; nx >>= 1; ny >>= 1;
+      }
+      if (done) break;
+    }
+    double L = 1.0;
+    if (sA > 0) {
+      const double mu = sZ / sA, t = sT / sA, var = variance(mu, sZ2 / sA);
+      if (mu < t) L = var / (var + (t - mu) * (t - mu));
+    }
+    return (L * sA + lA + pLit) / (sA + lA + uA + pA);
+  }
+};
+
+shaders::VssmParams vssm_params(const ShadowmapSettings& s, const VssmSetup& v,
+                                const SatFixedPoint& f1, const SatFixedPoint& f2) {
+  shaders::VssmParams p{};
+  p.m = uint32_t(s.vssm_m);
+  p.tree_h = uint32_t(s.vssm_h);
+  p.leaf_grid = uint32_t(leaf_grid(s));
+  p.levels = uint32_t(v.level_w.size());
+  p.flat_var = float(s.vssm_flat * s.scene_radius);
+  p.contact = float(s.vssm_contact * s.scene_radius);
+  p.far_z = float(v.far_z);
+  p.z0 = float(v.z0);
+  p.off1 = float(f1.offset);
+  p.scale1 = float(f1.scale);
+  p.off2 = float(f2.offset);
+  p.scale2 = float(f2.scale);
+  for (size_t L = 0; L < v.level_w.size(); ++L) {
+    p.level_off[L] = uint32_t(v.level_off[L]);
+    p.level_w[L] = uint32_t(v.level_w[L]);
+    p.level_h[L] = uint32_t(v.level_h[L]);
+  }
+  return p;
+}
+
+class Vssm final : public detail::ShadowmapMethod {
+ public:
+  Vssm(gpu::Context& ctx, const ShadowmapSettings& s, const ShadowmapData& map, uint32_t w,
+       uint32_t h, bool has_position)
+      : hsm_k_(ctx, "shadows.vssm.hsm", isg_spv_shadowmap_hsm, {gpu::Slot::buffer, gpu::Slot::buffer},
+               sizeof(shaders::HsmPush), HSM_LOCAL, HSM_LOCAL),
+        shade_k_(ctx, "shadows.vssm", isg_spv_shadowmap_vssm,
+                 std::vector<gpu::Slot>(11, gpu::Slot::buffer), sizeof(shaders::ShadowmapPush),
+                 SHADOWMAP_LOCAL, SHADOWMAP_LOCAL),
+        sat_(ctx), v_(vssm_setup(map)), w_(w), h_(h), mw_(uint32_t(map.width)),
+        mh_(uint32_t(map.height)) {
+    const auto p = shadowmap_params(s, map, w, h, has_position, 0u);
+    params_ = gpu::Buffer(ctx, sizeof(p), "vssm.params");
+    params_.upload(&p, sizeof(p));
+    f1_ = sat_fixed_point(map.z, 1, v_.far_z);
+    f2_ = sat_fixed_point(map.z, 2, v_.far_z, v_.z0);
+    const auto vp = vssm_params(s, v_, f1_, f2_);
+    vparams_ = gpu::Buffer(ctx, sizeof(vp), "vssm.vparams");
+    vparams_.upload(&vp, sizeof(vp));
+    const size_t texels = map.z.size();
+    hsm_ = gpu::Buffer(ctx, v_.hsm_texels * 8, "vssm.hsm");
+    sat1_ = gpu::Buffer(ctx, texels * 8, "vssm.sat_z");
+    sat2_ = gpu::Buffer(ctx, texels * 8, "vssm.sat_z2");
+    std::vector<uint32_t> zero(SHADOWMAP_STATS, 0u);
+    stats_ = gpu::Buffer(ctx, zero.size() * sizeof(uint32_t), "vssm.stats");
+    stats_.upload(std::span<const uint32_t>(zero));
+  }
+  void record(gpu::Sequence& seq, const gpu::Buffer& geo, const gpu::Buffer& fg,
+              const gpu::Buffer& hard, const gpu::Buffer& map, const gpu::Buffer& soft,
+              const std::string& label) override {
+    // Min-max HSM, level by level (thesis §7.5.1).
+    for (size_t L = 0; L < v_.level_w.size(); ++L) {
+      shaders::HsmPush hp{};
+      hp.dst_off = uint32_t(v_.level_off[L]);
+      hp.dst_w = uint32_t(v_.level_w[L]);
+      hp.dst_h = uint32_t(v_.level_h[L]);
+      hp.from_map = L == 0 ? 1u : 0u;
+      hp.far_z = float(v_.far_z);
+      if (L > 0) {
+        hp.src_off = uint32_t(v_.level_off[L - 1]);
+        hp.src_w = uint32_t(v_.level_w[L - 1]);
+        hp.src_h = uint32_t(v_.level_h[L - 1]);
+      }
+      seq.dispatch(hsm_k_, {gpu::Binding::of(map), gpu::Binding::of(hsm_)}, hp, hp.dst_w, hp.dst_h,
+                   label + ".hsm" + std::to_string(L));
+    }
+    sat_.record(seq, map, sat1_, mw_, mh_, f1_, label + ".sat_z");
+    sat_.record(seq, map, sat2_, mw_, mh_, f2_, label + ".sat_z2");
+    shaders::ShadowmapPush pc{w_, h_};
+    seq.dispatch(shade_k_,
+                 {gpu::Binding::of(params_), gpu::Binding::of(geo), gpu::Binding::of(fg),
+                  gpu::Binding::of(hard), gpu::Binding::of(map), gpu::Binding::of(vparams_),
+                  gpu::Binding::of(hsm_), gpu::Binding::of(sat1_), gpu::Binding::of(sat2_),
+                  gpu::Binding::of(soft), gpu::Binding::of(stats_)},
+                 pc, w_, h_, label);
+  }
+  ShadowmapStats stats() const override { return detail::read_stats(stats_); }
+  uint64_t gpu_bytes() const override {
+    return params_.size() + vparams_.size() + hsm_.size() + sat1_.size() + sat2_.size() +
+           stats_.size();
+  }
+
+ private:
+  gpu::Kernel hsm_k_, shade_k_;
+  SatPass sat_;
+  VssmSetup v_;
+  SatFixedPoint f1_, f2_;
+  gpu::Buffer params_, vparams_, hsm_, sat1_, sat2_, stats_;
+  uint32_t w_, h_, mw_, mh_;
+};
+}  // namespace
+
+std::vector<float> vssm_reference(const ShadowmapInputs& in, const ShadowmapData& map,
+                                  const ShadowmapSettings& s, ShadowmapStats* stats) {
+  Geom G(in, map, s);
+  VssmRef R(G, s);
+  std::vector<float> out(G.n);
+  ShadowmapStats st;
+  for (int py = 0; py < in.h; ++py)
+    for (int px = 0; px < in.w; ++px) {
+      const size_t i = size_t(py) * in.w + px;
+      if (in.fg[i] == 0.0f) { out[i] = in.hard[i]; continue; }
+      const V3 P = G.position(i), q = G.project(P);
+      if (!G.inside(q)) { out[i] = in.hard[i]; continue; }
+      ++st.pixels;
+      bool back = false;
+      const V3 g = G.receiver_plane(px, py, q, P, back);
+      if (back) { ++st.skipped; out[i] = in.hard[i]; continue; }
+      out[i] = float(R.shade(px, py, q, g, st));
+    }
+  if (stats) *stats = st;
+  return out;
 }
 
 namespace detail {
-std::unique_ptr<ShadowmapMethod> make_vssm(gpu::Context&, const ShadowmapSettings&,
-                                           const ShadowmapData&, uint32_t, uint32_t, bool) {
-  throw std::logic_error("shadow-map method vssm not built");
+std::unique_ptr<ShadowmapMethod> make_vssm(gpu::Context& ctx, const ShadowmapSettings& s,
+                                           const ShadowmapData& map, uint32_t w, uint32_t h,
+                                           bool has_position) {
+  return std::make_unique<Vssm>(ctx, s, map, w, h, has_position);
 }
 }  // namespace detail
 
