@@ -22,7 +22,7 @@ void main() {
   uint i = p.y * pc.width + p.x;
   float c0 = coc_buf[i];
   uint t = 4u * ((p.y / DOF_TILE) * pc.tiles_x + p.x / DOF_TILE);
-  float a = isg_pixel_angle(p);
+  float a = isg_pixel_angle(p + uvec2(pc.origin & 0xffffu, pc.origin >> 16));
   vec4 out_c;
   if (tiles[t + 3u] != 0.0) {
     out_c = dof_cheap(p, c0, a);

@@ -21,7 +21,7 @@ struct DofPush {
   float max_coc;   // |CoC| clamp, pixels
   float rotation;  // aperture rotation, radians
   uint tile_skip;  // 1: cheap tiles take the cheap path
-  uint pad0;
+  uint origin;     // the image's origin in the frame, x | y << 16 (the pixel hash's)
   uint pad1;
   uint pad2;
 };

@@ -21,7 +21,7 @@ void main() {
   uint t = 4u * ((p.y / DOF_TILE) * pc.tiles_x + p.x / DOF_TILE);
   if (tiles[t + 3u] != 0.0) { radius[i] = abs(c0); return; }
   float R_s = max(tiles[t + 2u], 0.5);  // the farthest any CoC reaching this tile spreads
-  float a = isg_pixel_angle(p);
+  float a = isg_pixel_angle(p + uvec2(pc.origin & 0xffffu, pc.origin >> 16));
   mat2 rot = mat2(cos(a), sin(a), -sin(a), cos(a));
   vec2 p0 = vec2(p) + 0.5;
   float sw = 1.0, sv = abs(c0);

@@ -29,7 +29,7 @@ vec3 rgb(uint base, uint i) {
 }
 vec3 refl_at(uint i) { return rgb(0u, i); }
 
-float roughness_at(uint i) { return pc.has_roughness != 0u ? rough[i] : pc.roughness; }
+float roughness_at(uint i) { return (pc.flags & REFL_HAS_ROUGHNESS) != 0u ? rough[i] : pc.roughness; }
 
 bool is_glossy(uint i) {
   vec3 w = rgb(1u, i);
@@ -48,10 +48,10 @@ vec3 eye() { return vec3(pc.eye_x, pc.eye_y, pc.eye_z); }
 
 vec3 position_at(uint i) {
   uint n = npix();
-  if (pc.has_position != 0u) return vec3(geo[i], geo[n + i], geo[2u * n + i]);
+  if ((pc.flags & REFL_HAS_POSITION) != 0u) return vec3(geo[i], geo[n + i], geo[2u * n + i]);
   float z = geo[i];
   float x = float(i % pc.width) + 0.5, y = float(i / pc.width) + 0.5;
-  vec3 c = vec3((x - 0.5 * float(pc.width)) / pc.f_px * z, -(y - 0.5 * float(pc.height)) / pc.f_px * z, -z);
+  vec3 c = vec3((x - pc.cx) / pc.f_px * z, -(y - pc.cy) / pc.f_px * z, -z);
   return transpose(rot()) * c + eye();
 }
 vec3 normal_at(uint i) {
@@ -63,7 +63,7 @@ vec3 normal_at(uint i) {
 vec2 project(vec3 w) {
   vec3 c = rot() * (w - eye());
   float z = max(-c.z, 1e-6);
-  return vec2(0.5 * float(pc.width) + pc.f_px * c.x / z, 0.5 * float(pc.height) - pc.f_px * c.y / z);
+  return vec2(pc.cx + pc.f_px * c.x / z, pc.cy - pc.f_px * c.y / z);
 }
 
 
@@ -89,12 +89,12 @@ float range_fn(uint j, vec3 P0, vec3 N0) {
 
 vec3 refl_blur(uvec2 p, uint i) {
   vec2 p0 = vec2(p) + 0.5;
-  float ang = isg_pixel_angle(p);
+  float ang = isg_pixel_angle(p + uvec2(pc.origin & 0xffffu, pc.origin >> 16));
   mat2 R = mat2(cos(ang), sin(ang), -sin(ang), cos(ang));
   vec3 s = refl_at(i);
   float ws = 1.0;
-  for (uint k = 0u; k < pc.grid_gather * pc.grid_gather; ++k) {
-    vec2 q = p0 + pc.blur_radius * (R * isg_concentric(k, pc.grid_gather));
+  for (uint k = 0u; k < (pc.grids >> 16) * (pc.grids >> 16); ++k) {
+    vec2 q = p0 + pc.blur_radius * (R * isg_concentric(k, pc.grids >> 16));
     uint t[4]; float bw[4];
     taps(q, t, bw);
     for (int j = 0; j < 4; ++j) {
@@ -128,7 +128,7 @@ vec3 refl_isg(uvec2 p, uint i) {
   }
   vec2 d_min = vec2(-d_maj.y, d_maj.x);
   float maj = (pc.flags & 4u) != 0u ? 1.0 : cos_i;
-  float ang = isg_pixel_angle(p);
+  float ang = isg_pixel_angle(p + uvec2(pc.origin & 0xffffu, pc.origin >> 16));
   mat2 Rot = mat2(cos(ang), sin(ang), -sin(ang), cos(ang));
 
   // Parameter search (eq. 4, constant spatial weight, eq. 10 range) over t = E/(e+E), the
@@ -137,8 +137,8 @@ vec3 refl_isg(uvec2 p, uint i) {
   float st = d0 > 0.0 ? d0 / (e + d0) : 1.0;
   float sw = 1.0;
   if (d0 <= 0.0 && (pc.flags & 8u) == 0u) { st = 0.0; sw = 0.0; }
-  for (uint k = 0u; k < pc.grid_search * pc.grid_search; ++k) {
-    vec2 u = Rot * isg_concentric(k, pc.grid_search);
+  for (uint k = 0u; k < (pc.grids & 0xffffu) * (pc.grids & 0xffffu); ++k) {
+    vec2 u = Rot * isg_concentric(k, pc.grids & 0xffffu);
     vec2 q = p0 + R_p * (u.x * maj * d_maj + u.y * minor * d_min);
     uint t[4]; float bw[4];
     taps(q, t, bw);
@@ -175,8 +175,8 @@ vec3 refl_isg(uvec2 p, uint i) {
   float xi_max = tm2 / (alpha * alpha + tm2);
   vec3 s = c0;
   float ws = 1.0;
-  for (uint k = 0u; k < pc.grid_gather * pc.grid_gather; ++k) {
-    vec2 c = isg_concentric(k, pc.grid_gather);
+  for (uint k = 0u; k < (pc.grids >> 16) * (pc.grids >> 16); ++k) {
+    vec2 c = isg_concentric(k, pc.grids >> 16);
     float rho_u = length(c);
     float xi = xi_max * rho_u * rho_u;
     float th = atan(alpha * sqrt(xi / (1.0 - xi)));

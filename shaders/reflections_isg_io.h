@@ -7,6 +7,8 @@ ISG_IO_BEGIN
 // Modes of pass reflections.isg.
 #define REFL_MODE_ISG 0u   // parameter search (eq. 4, 10-12) then gather (eq. 13, 14)
 #define REFL_MODE_BLUR 1u  // the naive alternative: a constant-width disk blur of refl
+#define REFL_HAS_POSITION 32u   // P is given (else from depth and the camera)
+#define REFL_HAS_ROUGHNESS 64u  // the roughness channel (else the preset's everywhere)
 // Pixels at most this rough are mirrors: refl.glossy = refl.
 #define REFL_MIN_ROUGHNESS 1e-4
 // Largest reflected-cone angle θ_max (radians): GGX's tail makes 2·θ_h reach 180° at alpha 1.
@@ -16,12 +18,13 @@ ISG_IO_BEGIN
 struct ReflIsgPush {
   uint width;
   uint height;
-  uint grid_search;    // search samples = grid_search², concentric disk, rotated per pixel
-  uint grid_gather;    // gather samples = grid_gather²
-  uint has_position;   // 0: P from depth and the camera
-  uint has_roughness;  // 0: the preset roughness everywhere
+  uint grids;          // search grid | gather grid << 16: samples = grid², concentric disk
+  uint origin;         // the image's origin in the frame, x | y << 16 (the pixel hash's)
   uint mode;           // REFL_MODE_*
-  uint flags;          // bits: 1 search reach, 4 anisotropic, 8 misses in search, 16 masking
+  uint flags;          // bits: 1 search reach, 4 anisotropic, 8 misses in search, 16 masking,
+                       // REFL_HAS_POSITION, REFL_HAS_ROUGHNESS
+  float cx;            // principal point, pixels of this image (a tile: of the frame, shifted)
+  float cy;
   float roughness;     // preset roughness (where the channel is absent or overridden)
   float tan_h_factor;  // sqrt(E / (1 − E)): tan θ_h = alpha · tan_h_factor holds a fraction E
   float max_radius;    // footprint clamp, pixels
@@ -43,7 +46,6 @@ struct ReflIsgPush {
   float r20;
   float r21;
   float r22;
-  float pad;
 };
 ISG_IO_END
 #endif

@@ -31,7 +31,7 @@ void main() {
   float texel_world = 2.0 * q.z * p.tan_y / float(p.map_h);
   float k = p.light_radius * float(p.map_h) / (2.0 * p.tan_y);  // texels per unit of 1/d − 1/z
   float a = 0.0;
-  if (p.rotate != 0u) a = isg_pixel_angle(px);
+  if (p.rotate != 0u) a = isg_pixel_angle(px + uvec2(p.origin & 0xffffu, p.origin >> 16));
   mat2 rot = mat2(cos(a), sin(a), -sin(a), cos(a));
   float rs = min(k * max(1.0 / p.min_depth - 1.0 / q.z, 0.0), p.max_radius);
   float sum = 0.0;

@@ -28,10 +28,10 @@ vec3 light() { return vec3(pc.light_x, pc.light_y, pc.light_z); }
 
 vec3 position_at(uint i) {
   uint n = npix();
-  if (pc.has_position != 0u) return vec3(geo[i], geo[n + i], geo[2u * n + i]);
+  if ((pc.flags & SHADOWS_ISG_HAS_POSITION) != 0u) return vec3(geo[i], geo[n + i], geo[2u * n + i]);
   float z = geo[i];
   float x = float(i % pc.width) + 0.5, y = float(i / pc.width) + 0.5;
-  vec3 c = vec3((x - 0.5 * float(pc.width)) / pc.f_px * z, -(y - 0.5 * float(pc.height)) / pc.f_px * z, -z);
+  vec3 c = vec3((x - pc.cx) / pc.f_px * z, -(y - pc.cy) / pc.f_px * z, -z);
   return transpose(rot()) * c + eye();
 }
 
@@ -150,7 +150,7 @@ void main() {
   bool clamped = Rp_raw > pc.max_radius;
   float Rp = min(Rp_raw, pc.max_radius);
   vec2 p0 = vec2(p) + 0.5;
-  float ang = (pc.flags & SHADOWS_ISG_ROTATE) != 0u ? isg_pixel_angle(p) : 0.0;
+  float ang = (pc.flags & SHADOWS_ISG_ROTATE) != 0u ? isg_pixel_angle(p + uvec2(pc.origin & 0xffffu, pc.origin >> 16)) : 0.0;
   float ca = cos(ang), sa = sin(ang);
 
   // Parameter search (eq. 4, 6, 7): occluder distances weighted by r = gaussian · inShadow,
@@ -161,8 +161,9 @@ void main() {
     sw = 1.0 - s0;
     swd = sw * o0;
   }
-  for (uint k = 0u; k < pc.grid_search * pc.grid_search; ++k) {
-    vec2 c = isg_concentric(k, pc.grid_search);
+  uint grid_search = pc.grids & 0xffffu;
+  for (uint k = 0u; k < grid_search * grid_search; ++k) {
+    vec2 c = isg_concentric(k, grid_search);
     vec2 q = p0 + Rp * vec2(ca * c.x - sa * c.y, sa * c.x + ca * c.y);
     uint t[4];
     float bw[4];
@@ -201,8 +202,9 @@ void main() {
   // stretched by 1 / cos θ_i; on grazing receivers the screen disk, which reaches far along the
   // surface, is cut back to it. The gaussian of eq. 6 as range function.
   float sum = s0, ws = 1.0;
-  for (uint k = 0u; k < pc.grid_gather * pc.grid_gather; ++k) {
-    vec2 c = isg_concentric(k, pc.grid_gather);
+  uint grid_gather = pc.grids >> 16;
+  for (uint k = 0u; k < grid_gather * grid_gather; ++k) {
+    vec2 c = isg_concentric(k, grid_gather);
     vec2 q = p0 + Rg * vec2(ca * c.x - sa * c.y, sa * c.x + ca * c.y);
     uint t[4];
     float bw[4];

@@ -29,13 +29,14 @@ ISG_IO_BEGIN
 #define SHADOWS_ISG_TILE_SKIP 4u    // tiles with no shadow boundary within reach take the cheap path
 #define SHADOWS_ISG_ORIENTED 8u     // disk and rect lights: the penumbra's cross-section lies in
                                     // the light's plane (light_n), not across the ray
+#define SHADOWS_ISG_HAS_POSITION 16u  // P is given (else from depth and the camera)
 struct ShadowsIsgPush {
   uint width;
   uint height;
-  uint grid_search;    // search samples = grid_search², concentric disk, rotated per pixel
-  uint grid_gather;    // gather samples = grid_gather²
-  uint has_position;   // 0: P from depth and the camera
+  uint grids;         // search grid | gather grid << 16: samples = grid², concentric disk
+  uint origin;         // the image's origin in the frame, x | y << 16 (the pixel hash's)
   uint flags;          // SHADOWS_ISG_*
+  float cx;            // principal point, pixels of this image (a tile: of the frame, shifted)
   float light_size;    // L of eq. 5 and 8: the light's radius in world units
   float inv_sigma;     // 1 / σ of eq. 6 (l in units of scene_radius)
   float inv_scene_radius;
@@ -59,7 +60,7 @@ struct ShadowsIsgPush {
   float light_nx;      // the light's normal (disk, rect)
   float light_ny;
   float light_nz;
-  float pad;
+  float cy;
 };
 ISG_IO_END
 #endif

@@ -5,10 +5,25 @@
 
 #include <array>
 #include <cmath>
+#include <cstdint>
 
 #include "io/scene.h"
 
 namespace isg::effects {
+
+// Where the processed image lies in the camera's frame: the whole frame, or a tile of a large
+// plate (lib/run/job.cpp) at (x0, y0) of a frame_w x frame_h frame. The passes take the
+// principal point and the pixel hash's origin from it, so a tile computes what the same pixels
+// of the whole frame would.
+struct Window {
+  int x0 = 0, y0 = 0, frame_w = 0, frame_h = 0;  // frame_w 0: the image is the frame
+  bool whole() const { return frame_w == 0; }
+  // Principal point in pixels of a w x h processed image.
+  double cx(int w) const { return whole() ? 0.5 * w : 0.5 * frame_w - x0; }
+  double cy(int h) const { return whole() ? 0.5 * h : 0.5 * frame_h - y0; }
+  // The hash origin for shaders: x0 | y0 << 16 (plates up to 65535 pixels a side).
+  uint32_t packed_origin() const { return uint32_t(x0) | (uint32_t(y0) << 16); }
+};
 
 struct PinholeView {
   double f_px = 1.0;                              // (height / 2) / tan(yfov / 2)

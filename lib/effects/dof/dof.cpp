@@ -356,6 +356,7 @@ shaders::DofPush push_of(const DofSettings& s, uint32_t w, uint32_t h, bool has_
   pc.max_coc = float(s.lens.max_coc);
   pc.rotation = float(s.rotation_deg * kPi / 180.0);
   pc.tile_skip = s.tile_skip ? 1u : 0u;
+  pc.origin = s.window.packed_origin();
   return pc;
 }
 std::unique_ptr<gpu::Kernel> make_kernel(gpu::Context& ctx, const char* name,

@@ -3,6 +3,7 @@
 
 #include <string>
 
+#include "effects/view.h"
 #include "io/scene.h"
 #include "params/params.h"
 
@@ -25,6 +26,7 @@ struct DofSettings {
   int blades = 0;          // 0: disk; n >= 3: n-blade polygon
   double rotation_deg = 0;  // polygon rotation
   bool tile_skip = true;   // cheap path for tiles whose CoC range is under half a pixel
+  Window window;  // a tile of a larger frame (the pixel hash's origin)
 };
 
 // Millimetres per scene unit ("m", "cm", "mm"; anything else is taken as metres).

@@ -276,13 +276,15 @@ void ReflectionsPass::record(gpu::Sequence& seq, const gpu::Buffer& refl, const 
   shaders::ReflIsgPush pc{};
   pc.width = w;
   pc.height = h;
-  pc.grid_search = uint32_t(s_.grid_search);
-  pc.grid_gather = uint32_t(s_.grid_gather);
-  pc.has_position = has_position ? 1u : 0u;
-  pc.has_roughness = rough && !s_.roughness_override ? 1u : 0u;
+  pc.grids = uint32_t(s_.grid_search) | (uint32_t(s_.grid_gather) << 16);
+  pc.origin = s_.window.packed_origin();
+  pc.cx = float(s_.window.cx(int(w)));
+  pc.cy = float(s_.window.cy(int(h)));
+  const bool has_rough = rough && !s_.roughness_override;
   pc.mode = s_.method == "blur" ? REFL_MODE_BLUR : REFL_MODE_ISG;
   pc.flags = (s_.search_reach ? 1u : 0u) | (s_.anisotropic ? 4u : 0u) |
-             (s_.search_misses ? 8u : 0u) | (s_.masking ? 16u : 0u);
+             (s_.search_misses ? 8u : 0u) | (s_.masking ? 16u : 0u) |
+             (has_position ? REFL_HAS_POSITION : 0u) | (has_rough ? REFL_HAS_ROUGHNESS : 0u);
   pc.roughness = float(s_.roughness);
   pc.tan_h_factor = float(ggx_cone_tan(1.0, s_.energy));
   pc.max_radius = float(s_.max_radius);
@@ -300,7 +302,7 @@ void ReflectionsPass::record(gpu::Sequence& seq, const gpu::Buffer& refl, const 
   pc.r10 = float(m[3]), pc.r11 = float(m[4]), pc.r12 = float(m[5]);
   pc.r20 = float(m[6]), pc.r21 = float(m[7]), pc.r22 = float(m[8]);
   // Without a roughness channel the slot is bound to refl.dist and never read.
-  const gpu::Buffer& rb = pc.has_roughness ? *rough : dist;
+  const gpu::Buffer& rb = has_rough ? *rough : dist;
   seq.dispatch(kernel_,
                {gpu::Binding::of(refl), gpu::Binding::of(dist), gpu::Binding::of(weight),
                 gpu::Binding::of(normal), gpu::Binding::of(geo), gpu::Binding::of(rb),

@@ -4,6 +4,7 @@
 #include <array>
 #include <string>
 
+#include "effects/view.h"
 #include "io/scene.h"
 #include "params/params.h"
 
@@ -28,6 +29,7 @@ struct ReflSettings {
   double f_px = 1.0;
   std::array<double, 3> eye{0, 0, 0};
   std::array<double, 9> rot{1, 0, 0, 0, 1, 0, 0, 0, 1};
+  Window window;  // a tile of a larger frame (principal point, hash origin)
 };
 
 // From the camera (any resolution: f_px is for `height` rows) and the preset.

@@ -316,11 +316,13 @@ void ShadowsIsgPass::record(gpu::Sequence& seq, const ShadowSettings& s, const g
   shaders::ShadowsIsgPush pc{};
   pc.width = w;
   pc.height = h;
-  pc.grid_search = uint32_t(s.grid_search);
-  pc.grid_gather = uint32_t(s.grid_gather);
-  pc.has_position = has_position ? 1u : 0u;
+  pc.grids = uint32_t(s.grid_search) | (uint32_t(s.grid_gather) << 16);
+  pc.origin = s.window.packed_origin();
+  pc.cx = float(s.window.cx(int(w)));
+  pc.cy = float(s.window.cy(int(h)));
   pc.flags = (s.rotate ? SHADOWS_ISG_ROTATE : 0u) | (s.search_reach ? SHADOWS_ISG_SEARCH_REACH : 0u) |
-             (s.tile_skip ? SHADOWS_ISG_TILE_SKIP : 0u) | (s.oriented ? SHADOWS_ISG_ORIENTED : 0u);
+             (s.tile_skip ? SHADOWS_ISG_TILE_SKIP : 0u) | (s.oriented ? SHADOWS_ISG_ORIENTED : 0u) |
+             (has_position ? SHADOWS_ISG_HAS_POSITION : 0u);
   pc.light_size = float(s.light_size);
   pc.inv_sigma = float(1.0 / s.sigma);
   pc.inv_scene_radius = float(1.0 / s.scene_radius);
@@ -340,7 +342,10 @@ void ShadowsIsgPass::record(gpu::Sequence& seq, const ShadowSettings& s, const g
   pc.r10 = float(m[3]), pc.r11 = float(m[4]), pc.r12 = float(m[5]);
   pc.r20 = float(m[6]), pc.r21 = float(m[7]), pc.r22 = float(m[8]);
   // The statistics are accumulated with atomics: start from zero.
+  // A tile starts from the whole frame's d_max (eq. 8), as the one-piece run would end with.
   std::vector<uint32_t> zero(shadows_isg_tiles_words(w, h), 0u);
+  const float dm = float(s.d_max_floor);
+  std::memcpy(&zero[(zero.size() - SHADOWS_ISG_STATS) + SHADOWS_ISG_STAT_DMAX], &dm, sizeof dm);
   tiles.upload(std::span<const uint32_t>(zero));
   seq.dispatch(tiles_kernel_,
                {gpu::Binding::of(shadow), gpu::Binding::of(occluder), gpu::Binding::of(fg),

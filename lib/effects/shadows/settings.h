@@ -5,6 +5,7 @@
 #include <array>
 #include <string>
 
+#include "effects/view.h"
 #include "io/scene.h"
 #include "params/params.h"
 
@@ -30,6 +31,8 @@ struct ShadowSettings {
   double f_px = 1.0;
   std::array<double, 3> eye{0, 0, 0};
   std::array<double, 9> rot{1, 0, 0, 0, 1, 0, 0, 0, 1};
+  Window window;            // a tile of a larger frame (principal point, hash origin)
+  double d_max_floor = 0.0; // a tile: the whole frame's largest occluder distance (eq. 8)
 };
 
 // L of eq. 5 and 8, the light's radius in world units: a sphere's or a disk's radius (a disk is

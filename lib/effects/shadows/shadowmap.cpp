@@ -199,6 +199,9 @@ shaders::ShadowmapParams shadowmap_params(const ShadowmapSettings& s, const Shad
     p.light_z = float(inv[11]);
   }
   p.f_px = float(s.f_px);
+  p.cx = float(s.window.cx(int(w)));
+  p.cy = float(s.window.cy(int(h)));
+  p.origin = s.window.packed_origin();
   p.eye_x = float(s.eye[0]);
   p.eye_y = float(s.eye[1]);
   p.eye_z = float(s.eye[2]);

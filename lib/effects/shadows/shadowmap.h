@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "gpu/gpu.h"
+#include "effects/view.h"
 #include "io/scene.h"
 #include "params/params.h"
 #include "shadowmap_io.h"
@@ -50,6 +51,7 @@ struct ShadowmapSettings {
   double f_px = 1.0;
   std::array<double, 3> eye{0, 0, 0};
   std::array<double, 9> rot{1, 0, 0, 0, 1, 0, 0, 0, 1};
+  Window window;  // a tile of a larger frame (principal point, hash origin)
 };
 
 // Why the shadow-map methods cannot run for this light ("" when they can).
