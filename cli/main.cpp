@@ -185,7 +185,11 @@ void print_timings(const isg::gpu::Context& ctx, const isg::run::LoadedFrame& f,
             << st.upload_ms << " ms, record " << st.record_ms << " ms, submit+wait "
             << st.gpu_wall_ms << " ms, download " << st.download_ms << " ms, write " << write_ms
             << " ms, total " << total_ms << " ms\n";
-  std::cout << "GPU memory for the plan: " << f.plan.gpu_bytes() / 1024 << " KiB\n";
+  std::cout << "GPU memory for the plan: " << f.plan.gpu_bytes() / 1024 << " KiB";
+  if (st.tiles > 0)
+    std::cout << " (one piece; processed in " << st.tiles << " tiles: "
+              << f.img.attributes.get_string("isg:tiles") << ")";
+  std::cout << "\n";
   if (st.refl_skipped_fraction >= 0)
     std::cout << "reflections: " << st.refl_skipped_fraction * 100.0
               << "% of tiles had nothing glossy (cheap path)\n";

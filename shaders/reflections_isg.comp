@@ -50,7 +50,8 @@ vec3 position_at(uint i) {
   uint n = npix();
   if ((pc.flags & REFL_HAS_POSITION) != 0u) return vec3(geo[i], geo[n + i], geo[2u * n + i]);
   float z = geo[i];
-  float x = float(i % pc.width) + 0.5, y = float(i / pc.width) + 0.5;
+  // Frame coordinates (a tile adds its origin), so a tile rounds as the whole frame does.
+  float x = float(i % pc.width + (pc.origin & 0xffffu)) + 0.5, y = float(i / pc.width + (pc.origin >> 16)) + 0.5;
   vec3 c = vec3((x - pc.cx) / pc.f_px * z, -(y - pc.cy) / pc.f_px * z, -z);
   return transpose(rot()) * c + eye();
 }
@@ -67,13 +68,14 @@ vec2 project(vec3 w) {
 }
 
 
-// Bilinear taps of position q (pixel centres at +0.5), clamped to the image.
+// Bilinear taps of position q (frame coordinates, pixel centres at +0.5), clamped to the image.
 void taps(vec2 q, out uint t[4], out float bw[4]) {
   vec2 x = q - 0.5;
   vec2 x0 = floor(x);
   vec2 f = x - x0;
-  int xa = clamp(int(x0.x), 0, int(pc.width) - 1), xb = clamp(int(x0.x) + 1, 0, int(pc.width) - 1);
-  int ya = clamp(int(x0.y), 0, int(pc.height) - 1), yb = clamp(int(x0.y) + 1, 0, int(pc.height) - 1);
+  int ix = int(x0.x) - int(pc.origin & 0xffffu), iy = int(x0.y) - int(pc.origin >> 16);
+  int xa = clamp(ix, 0, int(pc.width) - 1), xb = clamp(ix + 1, 0, int(pc.width) - 1);
+  int ya = clamp(iy, 0, int(pc.height) - 1), yb = clamp(iy + 1, 0, int(pc.height) - 1);
   t[0] = uint(ya) * pc.width + uint(xa); t[1] = uint(ya) * pc.width + uint(xb);
   t[2] = uint(yb) * pc.width + uint(xa); t[3] = uint(yb) * pc.width + uint(xb);
   bw[0] = (1.0 - f.x) * (1.0 - f.y); bw[1] = f.x * (1.0 - f.y);
@@ -88,7 +90,7 @@ float range_fn(uint j, vec3 P0, vec3 N0) {
 }
 
 vec3 refl_blur(uvec2 p, uint i) {
-  vec2 p0 = vec2(p) + 0.5;
+  vec2 p0 = vec2(p + uvec2(pc.origin & 0xffffu, pc.origin >> 16)) + 0.5;  // frame coordinates
   float ang = isg_pixel_angle(p + uvec2(pc.origin & 0xffffu, pc.origin >> 16));
   mat2 R = mat2(cos(ang), sin(ang), -sin(ang), cos(ang));
   vec3 s = refl_at(i);
@@ -107,7 +109,7 @@ vec3 refl_blur(uvec2 p, uint i) {
 }
 
 vec3 refl_isg(uvec2 p, uint i) {
-  vec2 p0 = vec2(p) + 0.5;
+  vec2 p0 = vec2(p + uvec2(pc.origin & 0xffffu, pc.origin >> 16)) + 0.5;  // frame coordinates
   vec3 P0 = position_at(i), N0 = normal_at(i);
   vec3 V = eye() - P0;
   float e = max(length(V), 1e-6);

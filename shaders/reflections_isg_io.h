@@ -23,7 +23,7 @@ struct ReflIsgPush {
   uint mode;           // REFL_MODE_*
   uint flags;          // bits: 1 search reach, 4 anisotropic, 8 misses in search, 16 masking,
                        // REFL_HAS_POSITION, REFL_HAS_ROUGHNESS
-  float cx;            // principal point, pixels of this image (a tile: of the frame, shifted)
+  float cx;            // principal point, frame pixels (pixel coordinates here are the frame's)
   float cy;
   float roughness;     // preset roughness (where the channel is absent or overridden)
   float tan_h_factor;  // sqrt(E / (1 − E)): tan θ_h = alpha · tan_h_factor holds a fraction E

@@ -8,7 +8,8 @@ vec3 sm_position(uint i) {
   uint n = p.width * p.height;
   if (p.has_position != 0u) return vec3(geo[i], geo[n + i], geo[2u * n + i]);
   float z = geo[i];
-  float x = float(i % p.width) + 0.5, y = float(i / p.width) + 0.5;
+  // Frame coordinates (a tile adds its origin), so a tile rounds as the whole frame does.
+  float x = float(i % p.width + (p.origin & 0xffffu)) + 0.5, y = float(i / p.width + (p.origin >> 16)) + 0.5;
   vec3 c = vec3((x - p.cx) / p.f_px * z, -(y - p.cy) / p.f_px * z, -z);
   mat3 rt = mat3(p.r0, p.r3, p.r6, p.r1, p.r4, p.r7, p.r2, p.r5, p.r8);  // R^T (columns)
   return transpose(rt) * c + vec3(p.eye_x, p.eye_y, p.eye_z);

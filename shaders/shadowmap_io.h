@@ -28,8 +28,8 @@ struct ShadowmapParams {
   float f_px, eye_x, eye_y, eye_z;
   float r0, r1, r2, r3, r4, r5, r6, r7, r8;
   float light_x, light_y, light_z;  // the light's centre (world)
-  // Principal point (pixels of this image; a tile: of the frame, shifted); the image's origin
-  // in the frame, x | y << 16 (the pixel hash's).
+  // Principal point (frame pixels; pixel coordinates here are the frame's: this image's plus
+  // the origin); the image's origin in the frame, x | y << 16 (also the pixel hash's).
   float cx, cy;
   uint origin, pad0;
 };

@@ -30,7 +30,8 @@ vec3 position_at(uint i) {
   uint n = npix();
   if ((pc.flags & SHADOWS_ISG_HAS_POSITION) != 0u) return vec3(geo[i], geo[n + i], geo[2u * n + i]);
   float z = geo[i];
-  float x = float(i % pc.width) + 0.5, y = float(i / pc.width) + 0.5;
+  // Frame coordinates (a tile adds its origin), so a tile rounds as the whole frame does.
+  float x = float(i % pc.width + (pc.origin & 0xffffu)) + 0.5, y = float(i / pc.width + (pc.origin >> 16)) + 0.5;
   vec3 c = vec3((x - pc.cx) / pc.f_px * z, -(y - pc.cy) / pc.f_px * z, -z);
   return transpose(rot()) * c + eye();
 }
@@ -67,12 +68,13 @@ float across(vec3 dP, vec3 wl) {
   return length(dP - (dot(dP, n) / c) * wl);
 }
 
-// Bilinear taps of q (pixel centres at +0.5); taps outside the image get weight 0.
+// Bilinear taps of q (frame coordinates, pixel centres at +0.5); taps outside the image get
+// weight 0.
 void taps(vec2 q, out uint t[4], out float bw[4]) {
   vec2 x = q - 0.5;
   vec2 x0 = floor(x);
   vec2 f = x - x0;
-  int xa = int(x0.x), ya = int(x0.y);
+  int xa = int(x0.x) - int(pc.origin & 0xffffu), ya = int(x0.y) - int(pc.origin >> 16);
   float wx[2] = float[2](1.0 - f.x, f.x), wy[2] = float[2](1.0 - f.y, f.y);
   for (int j = 0; j < 4; ++j) {
     int xx = xa + (j & 1), yy = ya + (j >> 1);
@@ -149,7 +151,7 @@ void main() {
   Rp_raw = d_loc > 0.0 ? penumbra(d_loc, D) / pix : 0.0;
   bool clamped = Rp_raw > pc.max_radius;
   float Rp = min(Rp_raw, pc.max_radius);
-  vec2 p0 = vec2(p) + 0.5;
+  vec2 p0 = vec2(p + uvec2(pc.origin & 0xffffu, pc.origin >> 16)) + 0.5;  // frame coordinates
   float ang = (pc.flags & SHADOWS_ISG_ROTATE) != 0u ? isg_pixel_angle(p + uvec2(pc.origin & 0xffffu, pc.origin >> 16)) : 0.0;
   float ca = cos(ang), sa = sin(ang);
 

@@ -36,7 +36,7 @@ struct ShadowsIsgPush {
   uint grids;         // search grid | gather grid << 16: samples = grid², concentric disk
   uint origin;         // the image's origin in the frame, x | y << 16 (the pixel hash's)
   uint flags;          // SHADOWS_ISG_*
-  float cx;            // principal point, pixels of this image (a tile: of the frame, shifted)
+  float cx;            // principal point, frame pixels (pixel coordinates here are the frame's)
   float light_size;    // L of eq. 5 and 8: the light's radius in world units
   float inv_sigma;     // 1 / σ of eq. 6 (l in units of scene_radius)
   float inv_scene_radius;

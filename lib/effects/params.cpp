@@ -163,6 +163,10 @@ std::vector<Def> output_params() {
        "most channels accepted in one input file, checked before decoding", ""},
       {"limits.max_memory_mb", Type::integer, "16384", 16, 1 << 22, {},
        "most host memory the decoded input may take", "MiB"},
+      {"limits.tile_size", Type::integer, "0", 0, 1 << 16, {},
+       "process the image in tiles of this many pixels a side (rounded up to 16), each with the "
+       "apron its passes read, giving what one piece would; 0: only when the plan's buffers "
+       "exceed half the device's memory or its largest storage buffer", "pixels"},
       {"limits.check_seconds", Type::number, "30", 0, 3600, {},
        "time OpenEXR's own checker may take on an input before decoding, in a child process "
        "(0 skips it)", "s"},

@@ -18,9 +18,10 @@ namespace isg::effects {
 struct Window {
   int x0 = 0, y0 = 0, frame_w = 0, frame_h = 0;  // frame_w 0: the image is the frame
   bool whole() const { return frame_w == 0; }
-  // Principal point in pixels of a w x h processed image.
-  double cx(int w) const { return whole() ? 0.5 * w : 0.5 * frame_w - x0; }
-  double cy(int h) const { return whole() ? 0.5 * h : 0.5 * frame_h - y0; }
+  // Principal point in frame pixels (the shaders take a pixel's frame coordinates: its
+  // coordinates in the w x h processed image plus the origin).
+  double cx(int w) const { return 0.5 * (whole() ? w : frame_w); }
+  double cy(int h) const { return 0.5 * (whole() ? h : frame_h); }
   // The hash origin for shaders: x0 | y0 << 16 (plates up to 65535 pixels a side).
   uint32_t packed_origin() const { return uint32_t(x0) | (uint32_t(y0) << 16); }
 };

@@ -1,6 +1,7 @@
 #include "plan/plan.h"
 
 #include <algorithm>
+#include <cmath>
 #include <sstream>
 
 #include "effects/shadows/isg.h"
@@ -100,11 +101,13 @@ std::vector<EffectStatus> capabilities(const io::Roles& roles, const io::Scene& 
 }
 
 Plan make_plan(const io::Roles& roles, const io::Scene& scene, const params::Params& p,
-               int width, int height, const io::Camera* camera) {
+               int width, int height, const io::Camera* camera, const effects::Window& window) {
   Plan plan;
   plan.width = width;
   plan.height = height;
   const uint64_t plane_bytes = uint64_t(width) * uint64_t(height) * sizeof(float);
+  // The camera's frame: the image, or the plate a tile is cut from.
+  const int view_h = window.whole() ? height : window.frame_h;
 
   auto need = [&](const std::string& name, int planes, bool upload) {
     for (auto& r : plan.resources)
@@ -158,10 +161,10 @@ Plan make_plan(const io::Roles& roles, const io::Scene& scene, const params::Par
         why = "missing channels for role " + l + ".occluder (and no usable shadow map: " +
               effects::shadowmap_unsupported(light, l) + ")";
       if (why.empty() && derive)
-        plan.derived[l] = effects::shadowmap_settings(*light, cam, scene.scene_radius, p, "derive", height);
+        plan.derived[l] = effects::shadowmap_settings(*light, cam, scene.scene_radius, p, "derive", view_h);
       st.runs = true;
       if (why.empty()) {
-        plan.shadows[l] = effects::shadow_settings(*light, *cam, scene.scene_radius, p, height);
+        plan.shadows[l] = effects::shadow_settings(*light, *cam, scene.scene_radius, p, view_h);
       } else {
         // isg is the default: without what it needs the input's hard shadow is kept (method
         // hard), and the status says why.
@@ -180,7 +183,7 @@ Plan make_plan(const io::Roles& roles, const io::Scene& scene, const params::Par
         why = "no camera (scene file, or worldToCamera/worldToNDC in the header) to place Z";
       st.why = why;
       st.runs = why.empty();
-      if (st.runs) plan.shadowmaps[l] = effects::shadowmap_settings(*light, cam, scene.scene_radius, p, method, height);
+      if (st.runs) plan.shadowmaps[l] = effects::shadowmap_settings(*light, cam, scene.scene_radius, p, method, view_h);
     } else {
       st.runs = true;
     }
@@ -250,7 +253,7 @@ Plan make_plan(const io::Roles& roles, const io::Scene& scene, const params::Par
     if (st.runs) {
       // Pass reflections.isg (both methods: isg and the naive blur), then the composite term
       // refl.weight·(refl.glossy − refl).
-      plan.refl = effects::refl_settings(*cam, scene.scene_radius, p, height);
+      plan.refl = effects::refl_settings(*cam, scene.scene_radius, p, view_h);
       need("refl", 3, true);
       need("refl.dist", 1, true);
       need("refl.weight", 3, true);
@@ -283,7 +286,7 @@ Plan make_plan(const io::Roles& roles, const io::Scene& scene, const params::Par
     plan.effects.push_back(st);
     if (st.runs) {
       io::Camera c = *cam;
-      c.width = width;  // CoC in pixels of the image being filtered
+      c.width = window.whole() ? width : window.frame_w;  // CoC in pixels of the frame
       plan.dof = effects::dof_settings(c, scene.units, p);
       need("dof.coc", 1, false);
       need("dof.input", 4, false);
@@ -302,6 +305,20 @@ Plan make_plan(const io::Roles& roles, const io::Scene& scene, const params::Par
       }
     }
   }
+  // A tile of a larger frame: every setting takes the window.
+  for (auto& [l, st] : plan.shadows) st.window = window;
+  for (auto& [l, st] : plan.shadowmaps) st.window = window;
+  for (auto& [l, st] : plan.derived) st.window = window;
+  if (plan.refl) plan.refl->window = window;
+  if (plan.dof) plan.dof->window = window;
+  // Reach: shadows.isg and reflections.isg read their inputs within max_radius (and whole
+  // 16x16 tiles' flags); the shadow-map methods the screen neighbours; depth of field reads
+  // the composite within max_coc, through dof.tiles' margin and dof.search.
+  double before_dof = 1.0;
+  for (const auto& [l, st] : plan.shadows) before_dof = std::max(before_dof, st.max_radius + 16.0);
+  if (plan.refl) before_dof = std::max(before_dof, plan.refl->max_radius + 16.0);
+  const double dof = plan.dof ? 3.0 * (plan.dof->lens.max_coc + 1.0) + 16.0 : 0.0;
+  plan.reach = int(std::ceil(before_dof + dof));
   return plan;
 }
 

@@ -53,6 +53,9 @@ struct Plan {
   std::map<std::string, effects::ShadowmapSettings> shadowmaps;
   // Per light, where method isg takes L.occluder (and L.shadow when absent) from the shadow map.
   std::map<std::string, effects::ShadowmapSettings> derived;
+  // How far (pixels) any pass reads from a pixel, through every pass after it: the apron a
+  // tile needs to compute its pixels as the whole frame would.
+  int reach = 0;
 
   const Resource* resource(const std::string& name) const;
   uint64_t gpu_bytes() const;
@@ -65,7 +68,10 @@ std::vector<EffectStatus> capabilities(const io::Roles& roles, const io::Scene& 
                                        bool has_camera);
 
 // `camera`: the scene file's, else the EXR header's (null: the scene file's, if any).
+// `window`: the image is a tile of a larger frame (large plates, lib/run/job.cpp); the
+// settings take the frame's focal length and principal point and the tile's hash origin.
 Plan make_plan(const io::Roles& roles, const io::Scene& scene, const params::Params& p,
-               int width, int height, const io::Camera* camera = nullptr);
+               int width, int height, const io::Camera* camera = nullptr,
+               const effects::Window& window = {});
 
 }  // namespace isg::plan

@@ -2,7 +2,10 @@
 
 #include "io/color.h"
 
+#include <algorithm>
 #include <chrono>
+#include <cmath>
+#include <map>
 #include <cstdio>
 #include <regex>
 #include <stdexcept>
@@ -53,8 +56,180 @@ LoadedFrame load_frame(const JobConfig& job, const std::string& input) {
   return f;
 }
 
+namespace {
+
+// Pixels [x, x + w) x [y, y + h) of every channel.
+io::Image crop(const io::Image& img, int x, int y, int w, int h) {
+  io::Image c;
+  c.path = img.path;
+  c.width = w;
+  c.height = h;
+  c.x0 = img.x0 + x;
+  c.y0 = img.y0 + y;
+  c.full_x0 = img.full_x0;
+  c.full_y0 = img.full_y0;
+  c.full_w = img.full_w;
+  c.full_h = img.full_h;
+  c.parts = img.parts;
+  c.attributes = img.attributes;
+  for (const auto& ch : img.channels) {
+    io::Channel cc{ch.name, ch.storage, std::vector<float>(size_t(w) * size_t(h))};
+    for (int r = 0; r < h; ++r)
+      std::copy_n(ch.data.begin() + ptrdiff_t(size_t(y + r) * size_t(img.width) + size_t(x)), w,
+                  cc.data.begin() + ptrdiff_t(size_t(r) * size_t(w)));
+    c.channels.push_back(std::move(cc));
+  }
+  return c;
+}
+
+// The tile edge for this frame: limits.tile_size, or when the plan does not fit the device
+// (half its memory, or its largest storage buffer) the largest that does; 0: one piece.
+int tile_edge(const gpu::Context& ctx, const JobConfig& job, const LoadedFrame& f) {
+  const int W = f.img.width, H = f.img.height;
+  int64_t t = job.params.integer("limits.tile_size");
+  if (t == 0) {
+    const auto& info = ctx.info();
+    uint64_t largest = 0;
+    for (const auto& r : f.plan.resources) largest = std::max(largest, r.bytes);
+    const double px = double(W) * double(H);
+    const double budget = info.device_local_bytes ? 0.5 * double(info.device_local_bytes) : 1e300;
+    const double range = info.max_storage_buffer_range ? double(info.max_storage_buffer_range) : 1e300;
+    const double fit = std::min(budget / (double(f.plan.gpu_bytes()) / px), range / (double(largest) / px));
+    if (fit >= px) return 0;
+    t = std::max<int64_t>(64, int64_t(std::sqrt(fit)) - 2 * int64_t(f.plan.reach));
+  }
+  t = (t + 15) / 16 * 16;
+  return t >= std::max(W, H) ? 0 : int(t);
+}
+
+// Per light where shadows.isg runs on input occluders: the whole frame's d_max (eq. 8; what
+// pass shadows.isg.tiles finds over the foreground's shadowed pixels), which a tile must start
+// from. Lights whose occluders come from the shadow map are left out: a tile then bounds its
+// search by its own (apron included) d_max.
+std::map<std::string, double> frame_dmax(const LoadedFrame& f) {
+  std::map<std::string, double> out;
+  const size_t n = f.img.pixels();
+  const io::RoleBinding* beauty = f.roles.get("beauty");
+  std::vector<float> alpha, depth;
+  if (beauty && beauty->components() == 4) {
+    auto b = io::gather_role(f.img, *beauty, 4);
+    alpha.assign(b.begin() + ptrdiff_t(3 * n), b.end());
+  }
+  if (const io::RoleBinding* d = f.roles.get("depth")) depth = io::gather_role(f.img, *d, 1);
+  for (const auto& [l, s] : f.plan.shadows) {
+    if (f.plan.derived.count(l)) continue;
+    const auto* sb = f.roles.get(l + ".shadow");
+    const auto* ob = f.roles.get(l + ".occluder");
+    if (!sb || !ob) continue;
+    const auto sh = io::gather_role(f.img, *sb, 1), oc = io::gather_role(f.img, *ob, 1);
+    float dm = 0.0f;
+    for (size_t i = 0; i < n; ++i) {
+      if (!alpha.empty() && alpha[i] == 0.0f) continue;
+      if (!depth.empty() && (depth[i] <= 0.0f || depth[i] >= float(ISG_BACKGROUND_DEPTH))) continue;
+      if (sh[i] < 1.0f && oc[i] > 0.0f) dm = std::max(dm, oc[i]);
+    }
+    out[l] = dm;
+  }
+  return out;
+}
+
+// Large plates: tiles of `edge` pixels, each run with its apron (the plan's reach, in whole
+// 16-pixel steps so tile grids line up with the frame's) as a window of the frame; the inner
+// pixels of every output channel are copied back. GPU times add up per pass; skipped fractions
+// are weighted by pixels.
+Stats execute_tiled(gpu::Context& ctx, const JobConfig& job, LoadedFrame& f, int edge) {
+  const int W = f.img.width, H = f.img.height;
+  const int apron = (f.plan.reach + 15) / 16 * 16;
+  const auto dmax = frame_dmax(f);
+  std::map<std::string, io::Channel> out;
+  std::vector<std::string> order;
+  Stats total;
+  std::map<std::string, size_t> pass_at;
+  int tiles = 0;
+  for (int ty = 0; ty < H; ty += edge) {
+    for (int tx = 0; tx < W; tx += edge) {
+      const int x0 = std::max(0, tx - apron), y0 = std::max(0, ty - apron);
+      const int x1 = std::min(W, tx + edge + apron), y1 = std::min(H, ty + edge + apron);
+      io::Image piece = crop(f.img, x0, y0, x1 - x0, y1 - y0);
+      plan::Plan plan = plan::make_plan(f.roles, job.scene, job.params, x1 - x0, y1 - y0,
+                                        f.camera ? &*f.camera : nullptr,
+                                        effects::Window{x0, y0, W, H});
+      for (auto& [l, s] : plan.shadows)
+        if (dmax.count(l)) s.d_max_floor = dmax.at(l);
+      Stats st = execute(ctx, plan, f.roles, piece);
+      ++tiles;
+      for (const auto& p : st.passes) {
+        auto it = pass_at.find(p.name);
+        if (it == pass_at.end()) {
+          pass_at[p.name] = total.passes.size();
+          total.passes.push_back(p);
+        } else {
+          total.passes[it->second].ms += p.ms;
+        }
+      }
+      total.upload_ms += st.upload_ms;
+      total.record_ms += st.record_ms;
+      total.gpu_wall_ms += st.gpu_wall_ms;
+      total.download_ms += st.download_ms;
+      // The inner pixels of every channel.
+      const int iw = std::min(tx + edge, W) - tx, ih = std::min(ty + edge, H) - ty;
+      for (const auto& ch : piece.channels) {
+        auto it = out.find(ch.name);
+        if (it == out.end()) {
+          order.push_back(ch.name);
+          it = out.emplace(ch.name, io::Channel{ch.name, ch.storage, std::vector<float>(f.img.pixels())}).first;
+        }
+        for (int r = 0; r < ih; ++r)
+          std::copy_n(ch.data.begin() + ptrdiff_t(size_t(ty - y0 + r) * size_t(x1 - x0) + size_t(tx - x0)),
+                      iw, it->second.data.begin() + ptrdiff_t(size_t(ty + r) * size_t(W) + size_t(tx)));
+      }
+      // Statistics: counts add up, fractions are averaged over the tiles (weighted by pixels
+      // for the shadow-map methods); aprons are counted in each tile that reads them.
+      if (tiles == 1) {
+        total.shadows = st.shadows;
+        total.shadowmaps = st.shadowmaps;
+        total.dof_cheap_fraction = st.dof_cheap_fraction;
+        total.refl_skipped_fraction = st.refl_skipped_fraction;
+      } else {
+        const double k = 1.0 / tiles;
+        for (size_t j = 0; j < total.shadows.size() && j < st.shadows.size(); ++j) {
+          auto& a = total.shadows[j];
+          const auto& b = st.shadows[j];
+          a.skipped_fraction += (b.skipped_fraction - a.skipped_fraction) * k;
+          a.clamped_pixels += b.clamped_pixels;
+          a.full_pixels += b.full_pixels;
+        }
+        for (size_t j = 0; j < total.shadowmaps.size() && j < st.shadowmaps.size(); ++j) {
+          auto& a = total.shadowmaps[j];
+          const auto& b = st.shadowmaps[j];
+          const double n = double(a.pixels + b.pixels);
+          if (n > 0)
+            a.skipped_fraction = (a.skipped_fraction * double(a.pixels) + b.skipped_fraction * double(b.pixels)) / n;
+          a.pixels += b.pixels;
+          a.clamped_pixels += b.clamped_pixels;
+          a.gpu_bytes = std::max(a.gpu_bytes, b.gpu_bytes);
+        }
+        if (st.dof_cheap_fraction >= 0)
+          total.dof_cheap_fraction += (st.dof_cheap_fraction - total.dof_cheap_fraction) * k;
+        if (st.refl_skipped_fraction >= 0)
+          total.refl_skipped_fraction += (st.refl_skipped_fraction - total.refl_skipped_fraction) * k;
+      }
+    }
+  }
+  // Replace the image's channels by the assembled ones, in the order one piece writes them.
+  f.img.channels.clear();
+  for (const auto& name : order) f.img.channels.push_back(std::move(out.at(name)));
+  f.img.attributes.attribute("isg:tiles", std::to_string(tiles) + " tiles of " +
+                                              std::to_string(edge) + " px, apron " +
+                                              std::to_string(apron) + " px");
+  total.tiles = tiles;
+  return total;
+}
+}  // namespace
+
 Stats process_frame(gpu::Context& ctx, const JobConfig& job, LoadedFrame& f) {
-  Stats st = execute(ctx, f.plan, f.roles, f.img);
+  const int edge = tile_edge(ctx, job, f);
+  Stats st = edge > 0 ? execute_tiled(ctx, job, f, edge) : execute(ctx, f.plan, f.roles, f.img);
   // Provenance: tool version, device, preset, every parameter.
   auto& a = f.img.attributes;
   a.attribute("isg:version", job.version);

@@ -35,6 +35,7 @@ struct Stats {
     uint64_t gpu_bytes = 0;  // the method's own buffers (SATs, basis images, HSM)
   };
   std::vector<ShadowmapSkip> shadowmaps;
+  int tiles = 0;  // large plates: tiles the frame was processed in (0: one piece)
   double gpu_ms() const;
 };
 
