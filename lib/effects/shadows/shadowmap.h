@@ -42,9 +42,9 @@ struct ShadowmapSettings {
   double vssm_flat = 1e-4;  // shadows.vssm_flat: σ² below it·r is planar (§7.5.5)
   double vssm_contact = 0.01;  // shadows.vssm_contact: d − z_avg below it·r: PCF (§7.5.4)
   // cssm (thesis ch. 5)
-  int cssm_order = 4;                 // shadows.cssm_order: M, Fourier terms (eq. 5.2, 5.10)
+  int cssm_order = 8;                 // shadows.cssm_order: M, Fourier terms (eq. 5.2, 5.10)
   std::string cssm_filter = "sat";    // shadows.cssm_filter: sat | mipmap (§5.3.1)
-  double cssm_a = 30.0, cssm_b = 10.0;  // shadows.cssm_sharpen_a/b: eq. 5.9
+  double cssm_a = 30.0, cssm_b = 100.0;  // shadows.cssm_sharpen_a/b: eq. 5.9
   // Camera (depth -> position; facing test): focal length in pixels, eye, world-to-camera
   // rotation. Without a camera, P is required and no facing test is made.
   bool has_camera = false;
