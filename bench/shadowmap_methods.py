@@ -17,6 +17,8 @@ ap.add_argument("--cases", default=os.path.join(here, "..", "..", "shared", "cas
 ap.add_argument("--repeat", type=int, default=1)
 ap.add_argument("--synth-size", default="480x270")
 ap.add_argument("--from-json", action="store_true")
+ap.add_argument("--only", help="re-run only this method's rows (and the synth cases), merging "
+                "them into bench/out/shadowmap_methods.json")
 a = ap.parse_args()
 isg = os.path.join(a.build, "cli", "isg")
 synth = os.path.join(a.build, "tools", "synth", "isg-synth")
@@ -95,10 +97,14 @@ if not a.from_json:
         sh([synth, s, "--out", d, "--width", w, "--height", h, "--ref-spp", "64",
             "--shadowmap-size", "1024"])
         cases[f"isg-synth {s} {a.synth_size}"] = d
+    old = json.load(open(out_json)) if a.only and os.path.exists(out_json) else None
     res = {"machine": platform.node(), "cases": {}}
     for name, case in cases.items():
         r = {"hard": hard_rmse(case), "rows": []}
-        for method, label, sets in SETTINGS:
+        for i, (method, label, sets) in enumerate(SETTINGS):
+            if old and method != a.only and name in old["cases"]:
+                r["rows"].append(old["cases"][name]["rows"][i])
+                continue
             x = run(case, sets)
             x.update(method=method, setting=label)
             r["rows"].append(x)

@@ -179,7 +179,8 @@ void print_timings(const isg::gpu::Context& ctx, const isg::run::LoadedFrame& f,
   std::cout << std::fixed << std::setprecision(3);
   std::cout << "device: " << ctx.info().name << " (" << ctx.info().type_name << ")\n";
   std::cout << "GPU time per pass (timestamp queries):\n";
-  for (const auto& t : st.passes) std::cout << "  " << std::left << std::setw(28) << t.name << t.ms << " ms\n";
+  for (const auto& t : st.passes)
+    std::cout << "  " << std::left << std::setw(std::max(28, int(t.name.size()) + 1)) << t.name << t.ms << " ms\n";
   std::cout << "  " << std::setw(28) << "total" << st.gpu_ms() << " ms\n";
   std::cout << "wall: read " << f.read_ms << " ms, device init " << init_ms << " ms, upload "
             << st.upload_ms << " ms, record " << st.record_ms << " ms, submit+wait "
