@@ -34,7 +34,8 @@ vec2 hsm_range(vec2 flo, vec2 fhi) {
   vec2 r = vec2(1e30, -1e30);
   for (int y = a.y; y <= b.y; ++y)
     for (int x = a.x; x <= b.x; ++x) {
-      vec2 c = hsm[v.level_off[L] + uint(y) * v.level_w[L] + uint(x)];
+      vec2 c = L == 0u ? vec2(min(smap[uint(y) * p.map_w + uint(x)], v.far_z))
+                       : hsm[v.level_off[L] + uint(y) * v.level_w[L] + uint(x)];
       r = vec2(min(r.x, c.x), max(r.y, c.y));
     }
   return r;
@@ -178,7 +179,8 @@ void main() {
   if (zr.x >= base + lim) { atomicAdd(stats[SHADOWMAP_STAT_SKIPPED], 1u); soft[i] = 1.0; return; }
   if (zr.y < base - lim) { atomicAdd(stats[SHADOWMAP_STAT_SKIPPED], 1u); soft[i] = 0.0; return; }
 
-  // Blocker search over m x m sub-kernels (§7.4.2).
+  // Blocker search (Algorithm 2, L11-L15): the whole kernel when it is planar (its mean depth
+  // in front of the receiver), else m x m sub-kernels (§7.4.2).
   float sA = 0.0, sZ = 0.0, sZ2 = 0.0, sT = 0.0;  // planar group: area, Σ E(z)T, Σ E(z²)T, Σ t T
   float bPcf = 0.0, zPcf = 0.0;                   // non-planar group: blocker area, Σ z·area
   int m = int(v.m);
@@ -218,7 +220,8 @@ void main() {
   float zavg = clamp((zVsm + zPcf) / (bVsm + bPcf), p.min_depth, q.z);
   float rf = k * max(1.0 / zavg - 1.0 / q.z, 0.0);
   if (rf > p.max_radius) { rf = p.max_radius; atomicAdd(stats[SHADOWMAP_STAT_CLAMPED], 1u); }
-  // The square kernel of the light disk's area (half-width √π/2 · r).
+  // The square kernel of the light disk's area (half-width √π/2 · r; a rect light's
+  // area-equivalent disk).
   square(q, 0.8862269 * rf, a, b);
   if (q.z - zavg < v.contact) {
     // Contact (§7.5.4): the penumbra is narrow and the SAT's precision short: 3x3 PCF.

@@ -194,9 +194,9 @@ struct VssmRef {
   double shade(int px, int py, const V3& q, const V3& g, ShadowmapStats& st) const {
     const double tw = 2.0 * q[2] * G.tan_y / G.map.height;
     const double k = s.light_radius * G.map.height / (2.0 * G.tan_y);
-    const double rs = std::min(k * std::max(1.0 / G.map.min_depth - 1.0 / q[2], 0.0), s.max_radius);
     (void)px;
     (void)py;
+    const double rs = std::min(k * std::max(1.0 / G.map.min_depth - 1.0 / q[2], 0.0), s.max_radius);
     F2 a, b;
     square(q, rs, a, b);
     const double lim = s.slope_max * tw * (rs + 1.0) * 1.5;
@@ -315,8 +315,10 @@ shaders::VssmParams vssm_params(const ShadowmapSettings& s, const VssmSetup& v,
   p.scale1 = float(f1.scale);
   p.off2 = float(f2.offset);
   p.scale2 = float(f2.scale);
+  // On the GPU level 0 is the map itself (not stored): levels 1... from offset 0.
+  const size_t base = v.level_off.size() > 1 ? v.level_off[1] : 0;
   for (size_t L = 0; L < v.level_w.size(); ++L) {
-    p.level_off[L] = uint32_t(v.level_off[L]);
+    p.level_off[L] = L == 0 ? 0u : uint32_t(v.level_off[L] - base);
     p.level_w[L] = uint32_t(v.level_w[L]);
     p.level_h[L] = uint32_t(v.level_h[L]);
   }
@@ -343,7 +345,8 @@ class Vssm final : public detail::ShadowmapMethod {
     vparams_ = gpu::Buffer(ctx, sizeof(vp), "vssm.vparams");
     vparams_.upload(&vp, sizeof(vp));
     const size_t texels = map.z.size();
-    hsm_ = gpu::Buffer(ctx, v_.hsm_texels * 8, "vssm.hsm");
+    const size_t base = v_.level_off.size() > 1 ? v_.level_off[1] : 0;
+    hsm_ = gpu::Buffer(ctx, std::max<size_t>(v_.hsm_texels - base, 1) * 8, "vssm.hsm");
     sat1_ = gpu::Buffer(ctx, texels * 8, "vssm.sat_z");
     sat2_ = gpu::Buffer(ctx, texels * 8, "vssm.sat_z2");
     std::vector<uint32_t> zero(SHADOWMAP_STATS, 0u);
@@ -353,19 +356,19 @@ class Vssm final : public detail::ShadowmapMethod {
   void record(gpu::Sequence& seq, const gpu::Buffer& geo, const gpu::Buffer& fg,
               const gpu::Buffer& hard, const gpu::Buffer& map, const gpu::Buffer& soft,
               const std::string& label) override {
-    // Min-max HSM, level by level (thesis §7.5.1).
-    for (size_t L = 0; L < v_.level_w.size(); ++L) {
+    // Min-max HSM, level by level (thesis §7.5.1); level 0 is the map itself (clamped to
+    // far_z where read), level 1 is built from it.
+    const size_t base = v_.level_off.size() > 1 ? v_.level_off[1] : 0;
+    for (size_t L = 1; L < v_.level_w.size(); ++L) {
       shaders::HsmPush hp{};
-      hp.dst_off = uint32_t(v_.level_off[L]);
+      hp.dst_off = uint32_t(v_.level_off[L] - base);
       hp.dst_w = uint32_t(v_.level_w[L]);
       hp.dst_h = uint32_t(v_.level_h[L]);
-      hp.from_map = L == 0 ? 1u : 0u;
+      hp.from_map = L == 1 ? 1u : 0u;
       hp.far_z = float(v_.far_z);
-      if (L > 0) {
-        hp.src_off = uint32_t(v_.level_off[L - 1]);
-        hp.src_w = uint32_t(v_.level_w[L - 1]);
-        hp.src_h = uint32_t(v_.level_h[L - 1]);
-      }
+      hp.src_off = L == 1 ? 0u : uint32_t(v_.level_off[L - 1] - base);
+      hp.src_w = uint32_t(v_.level_w[L - 1]);
+      hp.src_h = uint32_t(v_.level_h[L - 1]);
       seq.dispatch(hsm_k_, {gpu::Binding::of(map), gpu::Binding::of(hsm_)}, hp, hp.dst_w, hp.dst_h,
                    label + ".hsm" + std::to_string(L));
     }

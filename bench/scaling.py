@@ -1,0 +1,145 @@
+#!/usr/bin/env python3
+"""Issue 9's scaling section: how the cost grows, on isg-synth `contact` generated on the fly.
+- pixels: 480x270 to 3840x2160, soft shadows (isg; glossy reflections off: on lavapipe they
+  take 9 s at 480x270 on this scene's all-glossy floor),
+  GPU time and wall time next to `oiiotool in.exr -o out.exr` (the I/O floor), and the largest
+  size again in 1024-pixel tiles (limits.tile_size) with its difference from one piece;
+- samples: shadows isg search x gather grids;
+- shadow-map size 512² to 4096²: pcss and vssm, prefilter (SAT, HSM) and shading time;
+- light radius (kernel radius): pcss, vssm and cssm shading time and error, which for the
+  SAT-based methods must not grow with the kernel.
+
+    python3 bench/scaling.py [--build build]
+
+Writes bench/out/scaling.json and docs/benchmark/scaling.md."""
+import argparse, json, os, re, subprocess, tempfile, time
+
+here = os.path.dirname(os.path.abspath(__file__))
+ap = argparse.ArgumentParser()
+ap.add_argument("--build", default="build")
+ap.add_argument("--from-json", action="store_true")
+a = ap.parse_args()
+isg = os.path.join(a.build, "cli", "isg")
+synth = os.path.join(a.build, "tools", "synth", "isg-synth")
+tmp = tempfile.mkdtemp()
+out_json = os.path.join(here, "out", "scaling.json")
+out_md = os.path.join(here, "..", "docs", "benchmark", "scaling.md")
+
+
+def sh(args):
+    return subprocess.run(args, check=True, capture_output=True, text=True).stdout
+
+
+def case(name, w, h, extra=()):
+    d = os.path.join(tmp, name)
+    sh([synth, "contact", "--out", d, "--width", str(w), "--height", str(h), *extra])
+    return d
+
+
+def run(d, sets, out=None):
+    out = out or os.path.join(tmp, "o.exr")
+    cmd = [isg, "run", f"{d}/aovs.exr", "--scene", f"{d}/scene.json", "-o", out, "--timings"]
+    for s in sets:
+        cmd += ["--set", s]
+    t0 = time.time()
+    text = sh(cmd)
+    wall = time.time() - t0
+    passes = {m.group(1): float(m.group(2)) for m in re.finditer(r"^\s+(\S+)\s+([0-9.]+) ms$", text, re.M)}
+    gpu = passes.pop("total", sum(passes.values()))
+    return {"wall_s": wall, "gpu_ms": gpu, "passes": passes}
+
+
+def err(out, d):
+    return json.loads(sh([isg, "compare", out, f"{d}/ref/softshadow_key.exr", "--json",
+                          "--channels", "key.softshadow", "--mask", "mask"]))["all"]["rmse"]
+
+
+def group_ms(passes, method, key):
+    return sum(v for k, v in passes.items() if k.startswith(f"shadows.{method}") and key(k))
+
+
+if not a.from_json:
+    R = {"pixels": [], "samples": [], "mapsize": [], "radius": []}
+    for w, h in ((480, 270), (960, 540), (1920, 1080), (3840, 2160)):
+        d = case(f"px{w}", w, h, ["--no-refs", "--shadowmap-size", "512"])
+        t0 = time.time()
+        sh(["oiiotool", f"{d}/aovs.exr", "-o", os.path.join(tmp, "copy.exr")])
+        floor = time.time() - t0
+        r = run(d, ["reflections.method=none"])
+        r.update(w=w, h=h, oiiotool_s=floor)
+        if w == 3840:
+            one = os.path.join(tmp, "one.exr")
+            tiled = os.path.join(tmp, "tiled.exr")
+            sh([isg, "run", f"{d}/aovs.exr", "--scene", f"{d}/scene.json", "-o", one,
+                "--set", "reflections.method=none"])
+            t = run(d, ["limits.tile_size=1024", "reflections.method=none"], tiled)
+            diff = json.loads(sh([isg, "compare", tiled, one, "--json"]))["all"]
+            r["tiled"] = {"wall_s": t["wall_s"], "gpu_ms": t["gpu_ms"], "max_error": diff["max_abs"]}
+        R["pixels"].append(r)
+        print("pixels", w, h, r["wall_s"], r["gpu_ms"], flush=True)
+    d = case("samples", 480, 270, ["--no-refs"])
+    for s, g in ((9, 25), (25, 49), (49, 81), (81, 121)):
+        r = run(d, [f"shadows.search_samples={s}", f"shadows.gather_samples={g}", "reflections.method=none"])
+        r.update(search=s, gather=g)
+        R["samples"].append(r)
+    for n in (512, 1024, 2048, 4096):
+        d = case(f"map{n}", 480, 270, ["--no-refs", "--shadowmap-size", str(n)])
+        for m in ("pcss", "vssm"):
+            try:
+                r = run(d, [f"shadows.method={m}", "reflections.method=none"])
+            except subprocess.CalledProcessError as e:
+                r = {"error": e.stderr.strip().splitlines()[-1], "passes": {}, "gpu_ms": 0}
+            r.update(size=n, method=m)
+            R["mapsize"].append(r)
+        print("map", n, flush=True)
+    for lr in (0.1, 0.2, 0.4, 0.8):
+        d = case(f"lr{lr}", 320, 180, ["--ref-spp", "64", "--shadowmap-size", "1024", "--light-radius", str(lr)])
+        for m in ("isg", "pcss", "vssm", "cssm"):
+            out = os.path.join(tmp, "o.exr")
+            r = run(d, [f"shadows.method={m}", "reflections.method=none"], out)
+            r.update(radius=lr, method=m, rmse=err(out, d))
+            R["radius"].append(r)
+        print("radius", lr, flush=True)
+    os.makedirs(os.path.dirname(out_json), exist_ok=True)
+    json.dump(R, open(out_json, "w"), indent=1)
+R = json.load(open(out_json))
+
+L = ["# Scaling", "",
+     "Generated by `python3 bench/scaling.py` on isg-synth `contact` (lavapipe, this 2-core "
+     "machine). GPU times from timestamp queries; wall times of the whole `isg run` process.", "",
+     "## Pixel count (soft shadows, isg, default samples; reflections off)", "",
+     "| size | GPU ms | wall s | oiiotool copy s (I/O floor) | wall / floor |", "|---|---|---|---|---|"]
+for r in R["pixels"]:
+    L.append(f"| {r['w']}x{r['h']} | {r['gpu_ms']:.0f} | {r['wall_s']:.2f} | {r['oiiotool_s']:.2f} | "
+             f"{r['wall_s'] / r['oiiotool_s']:.1f} |")
+for r in R["pixels"]:
+    if "tiled" in r:
+        t = r["tiled"]
+        L += ["", f"{r['w']}x{r['h']} in 1024-pixel tiles (`--set limits.tile_size=1024`): GPU "
+              f"{t['gpu_ms']:.0f} ms, wall {t['wall_s']:.2f} s (one piece: {r['gpu_ms']:.0f} ms, "
+              f"{r['wall_s']:.2f} s); largest difference from one piece over every channel: "
+              f"{t['max_error']:g}."]
+L += ["", "## Samples (shadows isg, reflections off; 480x270)", "",
+      "| search x gather | GPU ms |", "|---|---|"]
+for r in R["samples"]:
+    L.append(f"| {r['search']} x {r['gather']} | {r['gpu_ms']:.0f} |")
+L += ["", "## Shadow-map size (480x270, reflections off)", "",
+      "| map | method | prefilter ms (SAT, HSM) | shading ms | GPU total ms |", "|---|---|---|---|---|"]
+for r in R["mapsize"]:
+    m = r["method"]
+    if "error" in r:
+        L.append(f"| {r['size']}² | {m} | {r['error']} | | |")
+        continue
+    pre = group_ms(r["passes"], m, lambda k: "]." in k)
+    shade = group_ms(r["passes"], m, lambda k: "]." not in k)
+    L.append(f"| {r['size']}² | {m} | {pre:.0f} | {shade:.0f} | {r['gpu_ms']:.0f} |")
+L += ["", "## Light radius (kernel radius; 320x180, 1024² map, reflections off)", "",
+      "| light radius | method | shading ms | prefilter ms | RMSE key.softshadow |", "|---|---|---|---|---|"]
+for r in R["radius"]:
+    m = r["method"]
+    pre = group_ms(r["passes"], m, lambda k: "]." in k)
+    shade = group_ms(r["passes"], m, lambda k: "]." not in k)
+    L.append(f"| {r['radius']} | {m} | {shade:.0f} | {pre:.0f} | {r['rmse']:.4f} |")
+os.makedirs(os.path.dirname(out_md), exist_ok=True)
+open(out_md, "w").write("\n".join(L) + "\n")
+print("wrote", out_md)
