@@ -44,8 +44,8 @@ using detail::V3;
 namespace {
 
 constexpr double kBoxOfDisk = 0.886226925452758;  // √π / 2: a square of the disk's area
-constexpr double kMinHalfWidth = 0.5;              // texels: the box covers at least one texel
-constexpr double kMinBlockers = 1e-3;              // 1 − s_f below it: no blockers (eq. 5.8)
+constexpr double kMinHalfWidth = 0.5;             // texels: the box covers at least one texel
+constexpr double kMinBlockers = 1e-3;             // 1 − s_f below it: no blockers (eq. 5.8)
 
 // The truncated expansion f_M(x) of the visibility (eq. 5.10, f = 1 − f̄).
 double f_m(int M, double x) {
@@ -196,8 +196,9 @@ class Prefiltered {
       const int xa = std::clamp(int(ix), 0, lw - 1), xb = std::clamp(int(ix) + 1, 0, lw - 1);
       const int ya = std::clamp(int(iy), 0, lh - 1), yb = std::clamp(int(iy) + 1, 0, lh - 1);
       const auto& m = T[size_t(l)];
-      return (1 - fx) * (1 - fy) * m[size_t(ya) * lw + xa] + fx * (1 - fy) * m[size_t(ya) * lw + xb] +
-             (1 - fx) * fy * m[size_t(yb) * lw + xa] + fx * fy * m[size_t(yb) * lw + xb];
+      return (1 - fx) * (1 - fy) * m[size_t(ya) * lw + xa] +
+             fx * (1 - fy) * m[size_t(ya) * lw + xb] + (1 - fx) * fy * m[size_t(yb) * lw + xa] +
+             fx * fy * m[size_t(yb) * lw + xb];
     };
     return (1 - t) * bilinear(l0) + t * bilinear(l1);
   }
@@ -221,62 +222,53 @@ std::vector<float> cssm_reference(const ShadowmapInputs& in, const ShadowmapData
   const Setup u = make_setup(map, s);
   const Prefiltered pf(map, u);
   const int M = u.M;
-  std::vector<float> out(G.n);
   ShadowmapStats st;
   const double k = s.light_radius * map.height / (2.0 * G.tan_y);
-  for (int py = 0; py < in.h; ++py) {
-    for (int px = 0; px < in.w; ++px) {
-      const size_t i = size_t(py) * in.w + px;
-      if (in.fg[i] == 0.0f) { out[i] = in.hard[i]; continue; }
-      const V3 P = G.position(i), q = G.project(P);
-      if (!G.inside(q)) { out[i] = in.hard[i]; continue; }
-      ++st.pixels;
-      bool back = false;
-      const V3 g = G.receiver_plane(px, py, q, P, back);
-      if (back) { ++st.skipped; out[i] = in.hard[i]; continue; }
-      const double texel_world = 2.0 * q[2] * G.tan_y / map.height;
-      const double cx = std::floor(q[0]) + 0.5, cy = std::floor(q[1]) + 0.5;
-      const double d =
-          std::clamp((G.threshold(q, g, cx, cy, texel_world) - u.zmin) / u.zrange, 0.0, 1.0);
-      const double delta = u.s_z * d - u.x0;
-      // Prefiltered CSM (eq. 5.3, 5.10): the raw filtered visibility s_f over half-width h.
-      auto visibility = [&](double h) {
-        double sf = 0.5;
-        for (int j = 0; j < M; ++j) {
-          const double c = kPi * (2 * j + 1);
-          sf -= 2.0 / c *
-                (std::sin(c * delta) * pf.box(j, q[0], q[1], h) -
-                 std::cos(c * delta) * pf.box(M + j, q[0], q[1], h));
-        }
-        return sf;
-      };
-      // Blocker search (Fig. 5.1a): the PCSS region as a box of the same area.
-      const double rs = std::min(k * std::max(1.0 / map.min_depth - 1.0 / q[2], 0.0), s.max_radius);
-      const double hs = std::max(kBoxOfDisk * rs, kMinHalfWidth);
-      const double sf = visibility(hs);
-      if (suppress(u, sf) >= 1.0 || 1.0 - sf < kMinBlockers) {
-        ++st.skipped;  // no blockers: fully lit
-        out[i] = 1.0f;
-        continue;
-      }
-      // CSM-Z (eq. 5.11), then z_avg (eq. 5.8).
-      double num = 0.5 * pf.box(4 * M, q[0], q[1], hs);
+  auto out = detail::shade_receivers(G, st, [&](int, int, const V3& q, const V3& g) -> double {
+    const double texel_world = 2.0 * q[2] * G.tan_y / map.height;
+    const double cx = std::floor(q[0]) + 0.5, cy = std::floor(q[1]) + 0.5;
+    const double d =
+        std::clamp((G.threshold(q, g, cx, cy, texel_world) - u.zmin) / u.zrange, 0.0, 1.0);
+    const double delta = u.s_z * d - u.x0;
+    // Prefiltered CSM (eq. 5.3, 5.10): the raw filtered visibility s_f over half-width h.
+    auto visibility = [&](double h) {
+      double sf = 0.5;
       for (int j = 0; j < M; ++j) {
         const double c = kPi * (2 * j + 1);
-        num += 2.0 / c *
-               (std::sin(c * delta) * pf.box(2 * M + j, q[0], q[1], hs) -
-                std::cos(c * delta) * pf.box(3 * M + j, q[0], q[1], hs));
+        sf -= 2.0 / c *
+              (std::sin(c * delta) * pf.box(j, q[0], q[1], h) -
+               std::cos(c * delta) * pf.box(M + j, q[0], q[1], h));
       }
-      const double z_avg = std::clamp(num / (1.0 - sf), 0.0, d);
-      const double zb = u.zmin + z_avg * u.zrange;
-      // Penumbra width (§5.3.1): rf = k (1/z_avg − 1/d), in texels.
-      double rf = k * std::max(1.0 / zb - 1.0 / q[2], 0.0);
-      if (rf > s.max_radius) { rf = s.max_radius; ++st.clamped; }
-      const double v = suppress(u, visibility(std::max(kBoxOfDisk * rf, kMinHalfWidth)));
-      const double p = 1.0 + s.cssm_a * std::exp(-s.cssm_b * (d - z_avg));  // eq. 5.9
-      out[i] = float(std::pow(v, p));
+      return sf;
+    };
+    // Blocker search (Fig. 5.1a): the PCSS region as a box of the same area.
+    const double rs = std::min(k * std::max(1.0 / map.min_depth - 1.0 / q[2], 0.0), s.max_radius);
+    const double hs = std::max(kBoxOfDisk * rs, kMinHalfWidth);
+    const double sf = visibility(hs);
+    if (suppress(u, sf) >= 1.0 || 1.0 - sf < kMinBlockers) {
+      ++st.skipped;  // no blockers: fully lit
+      return 1.0;
     }
-  }
+    // CSM-Z (eq. 5.11), then z_avg (eq. 5.8).
+    double num = 0.5 * pf.box(4 * M, q[0], q[1], hs);
+    for (int j = 0; j < M; ++j) {
+      const double c = kPi * (2 * j + 1);
+      num += 2.0 / c *
+             (std::sin(c * delta) * pf.box(2 * M + j, q[0], q[1], hs) -
+              std::cos(c * delta) * pf.box(3 * M + j, q[0], q[1], hs));
+    }
+    const double z_avg = std::clamp(num / (1.0 - sf), 0.0, d);
+    const double zb = u.zmin + z_avg * u.zrange;
+    // Penumbra width (§5.3.1): rf = k (1/z_avg − 1/d), in texels.
+    double rf = k * std::max(1.0 / zb - 1.0 / q[2], 0.0);
+    if (rf > s.max_radius) {
+      rf = s.max_radius;
+      ++st.clamped;
+    }
+    const double v = suppress(u, visibility(std::max(kBoxOfDisk * rf, kMinHalfWidth)));
+    const double p = 1.0 + s.cssm_a * std::exp(-s.cssm_b * (d - z_avg));  // eq. 5.9
+    return std::pow(v, p);
+  });
   if (stats) *stats = st;
   return out;
 }
@@ -297,9 +289,12 @@ class Cssm final : public ShadowmapMethod {
              CSSM_LOCAL, CSSM_LOCAL),
         shade_(ctx, "shadows.cssm", isg_spv_shadowmap_cssm,
                std::vector<gpu::Slot>(8 + CSSM_CHUNKS, gpu::Slot::buffer),
-               sizeof(shaders::ShadowmapPush),
-               SHADOWMAP_LOCAL, SHADOWMAP_LOCAL),
-        sat_(ctx), w_(w), h_(h), map_w_(uint32_t(map.width)), map_h_(uint32_t(map.height)) {
+               sizeof(shaders::ShadowmapPush), SHADOWMAP_LOCAL, SHADOWMAP_LOCAL),
+        sat_(ctx),
+        w_(w),
+        h_(h),
+        map_w_(uint32_t(map.width)),
+        map_h_(uint32_t(map.height)) {
     const Setup u = make_setup(map, s);
     const Levels L = mip_levels(map.width, map.height, u.sat);
     if (L.w.size() > CSSM_MAX_LEVELS) throw std::invalid_argument("cssm: shadow map too large");
@@ -328,8 +323,8 @@ class Cssm final : public ShadowmapMethod {
     }
     // The layers over as few buffers as the device's storage buffer range allows.
     const uint64_t layer_bytes = elems * 4u;
-    const uint64_t per = std::min<uint64_t>(ctx.info().max_storage_buffer_range / layer_bytes,
-                                            c.layers);
+    const uint64_t per =
+        std::min<uint64_t>(ctx.info().max_storage_buffer_range / layer_bytes, c.layers);
     const uint64_t chunks = per ? (c.layers + per - 1) / per : CSSM_CHUNKS + 1;
     if (chunks > CSSM_CHUNKS)
       throw std::invalid_argument(
@@ -347,7 +342,8 @@ class Cssm final : public ShadowmapMethod {
     cssm_params_.upload(&c, sizeof(c));
     for (uint32_t first = 0; first < c.layers; first += c.chunk_layers) {
       const uint32_t n = std::min(c.chunk_layers, c.layers - first);
-      tables_.emplace_back(ctx, n * layer_bytes, u.sat ? "shadowmap.cssm.sat" : "shadowmap.cssm.mip");
+      tables_.emplace_back(ctx, n * layer_bytes,
+                           u.sat ? "shadowmap.cssm.sat" : "shadowmap.cssm.mip");
       chunk_sizes_.push_back(n);
     }
     unused_ = gpu::Buffer(ctx, 16, "shadowmap.cssm.unused");
@@ -379,12 +375,12 @@ class Cssm final : public ShadowmapMethod {
       }
     }
     shaders::ShadowmapPush pc{w_, h_};
-    seq.dispatch(shade_,
-                 with_tables({gpu::Binding::of(params_), gpu::Binding::of(cssm_params_),
-                              gpu::Binding::of(geo), gpu::Binding::of(fg), gpu::Binding::of(hard),
-                              gpu::Binding::of(map), gpu::Binding::of(soft),
-                              gpu::Binding::of(stats_)}),
-                 pc, w_, h_, label);
+    seq.dispatch(
+        shade_,
+        with_tables({gpu::Binding::of(params_), gpu::Binding::of(cssm_params_),
+                     gpu::Binding::of(geo), gpu::Binding::of(fg), gpu::Binding::of(hard),
+                     gpu::Binding::of(map), gpu::Binding::of(soft), gpu::Binding::of(stats_)}),
+        pc, w_, h_, label);
   }
   ShadowmapStats stats() const override { return read_stats(stats_); }
   uint64_t gpu_bytes() const override {
@@ -397,7 +393,7 @@ class Cssm final : public ShadowmapMethod {
   gpu::Kernel basis_, mip_, shade_;
   SatPass sat_;
   gpu::Buffer params_, cssm_params_, unused_, stats_;
-  std::vector<gpu::Buffer> tables_;      // the basis layers, chunk_layers a buffer
+  std::vector<gpu::Buffer> tables_;  // the basis layers, chunk_layers a buffer
   std::vector<uint32_t> chunk_sizes_;
   shaders::CssmParams cparams_{};
   uint32_t w_, h_, map_w_, map_h_;

@@ -7,6 +7,7 @@
 #include <array>
 #include <cmath>
 #include <memory>
+#include <vector>
 
 #include "effects/shadows/shadowmap.h"
 #include "effects/view.h"
@@ -104,6 +105,29 @@ struct Geom {
     return map.z[size_t(cy) * size_t(map.width) + size_t(cx)];
   }
 };
+
+// Every reference's loop over the receivers, as every shadow-map pass does it: background and
+// pixels outside the map keep the hard shadow; back-facing receivers too (counted as skipped);
+// `shade(px, py, q, g)` gives the rest (q: the receiver in light space, g: its receiver plane).
+template <class Shade>
+std::vector<float> shade_receivers(const Geom& G, ShadowmapStats& st, Shade&& shade) {
+  const auto& in = G.in;
+  std::vector<float> out(G.n);
+  for (int py = 0; py < in.h; ++py)
+    for (int px = 0; px < in.w; ++px) {
+      const size_t i = size_t(py) * size_t(in.w) + size_t(px);
+      out[i] = in.hard[i];
+      if (in.fg[i] == 0.0f) continue;
+      const V3 P = G.position(i), q = G.project(P);
+      if (!G.inside(q)) continue;
+      ++st.pixels;
+      bool back = false;
+      const V3 g = G.receiver_plane(px, py, q, P, back);
+      if (back) { ++st.skipped; continue; }
+      out[i] = float(shade(px, py, q, g));
+    }
+  return out;
+}
 
 // One method's GPU resources and passes (pcss: shadowmap.cpp, vssm: vssm.cpp, cssm: cssm.cpp).
 class ShadowmapMethod {

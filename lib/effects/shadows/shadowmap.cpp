@@ -5,9 +5,9 @@
 #include <random>
 
 #include "effects/sampling.h"
-#include "effects/view.h"
 #include "effects/shadows/method.h"
 #include "effects/shadows/settings.h"
+#include "effects/view.h"
 #include "io/image.h"
 #include "isg/shaders/shadowmap_pcss.spv.h"
 #include "shadowmap_io.h"
@@ -15,9 +15,9 @@
 namespace isg::effects {
 
 using detail::Geom;
+using detail::kPi;
 using detail::V2;
 using detail::V3;
-using detail::kPi;
 
 std::string shadowmap_unsupported(const io::Light* light, const std::string& name) {
   if (!light) return "light " + name + " is not in the scene file";
@@ -87,8 +87,13 @@ std::vector<float> shadowmap_taps(int n, const std::string& pattern) {
     bool ok = true;
     for (const auto& q : pts)
       if ((q[0] - c[0]) * (q[0] - c[0]) + (q[1] - c[1]) * (q[1] - c[1]) < dmin * dmin) ok = false;
-    if (ok) { pts.push_back(c); fails = 0; }
-    else if (++fails > 1000) { dmin *= 0.95; fails = 0; }
+    if (ok) {
+      pts.push_back(c);
+      fails = 0;
+    } else if (++fails > 1000) {
+      dmin *= 0.95;
+      fails = 0;
+    }
   }
   for (const auto& q : pts) {
     t.push_back(float(q[0]));
@@ -119,50 +124,49 @@ std::vector<float> pcss_reference(const ShadowmapInputs& in, const ShadowmapData
   Geom G(in, map, s);
   const auto taps = shadowmap_taps(s.taps, s.pattern);
   const size_t nt = taps.size() / 2;
-  std::vector<float> out(G.n);
   ShadowmapStats st;
   const double k = s.light_radius * map.height / (2.0 * G.tan_y);
-  for (int py = 0; py < in.h; ++py) {
-    for (int px = 0; px < in.w; ++px) {
-      const size_t i = size_t(py) * in.w + px;
-      if (in.fg[i] == 0.0f) { out[i] = in.hard[i]; continue; }
-      V3 P = G.position(i);
-      V3 q = G.project(P);
-      if (!G.inside(q)) { out[i] = in.hard[i]; continue; }
-      ++st.pixels;
-      bool back = false;
-      V3 g = G.receiver_plane(px, py, q, P, back);
-      if (back) { ++st.skipped; out[i] = in.hard[i]; continue; }
-      double texel_world = 2.0 * q[2] * G.tan_y / map.height;
-      double a = s.rotate ? pixel_angle(uint32_t(px), uint32_t(py)) : 0.0;
-      double ca = std::cos(a), sa = std::sin(a);
-      auto tap = [&](size_t t, double r) -> V2 {
-        double x = taps[2 * t], y = taps[2 * t + 1];
-        return {std::floor(q[0] + (ca * x - sa * y) * r) + 0.5,
-                std::floor(q[1] + (sa * x + ca * y) * r) + 0.5};
-      };
-      double rs = std::min(k * std::max(1.0 / map.min_depth - 1.0 / q[2], 0.0), s.max_radius);
-      double sum = 0;
-      size_t cnt = 0;
-      for (size_t t = 0; t < nt; ++t) {
-        V2 c = tap(t, rs);
-        if (!G.in_map(c[0], c[1])) continue;
-        double zm = G.fetch(c[0], c[1]);
-        if (zm < G.threshold(q, g, c[0], c[1], texel_world)) { sum += zm; ++cnt; }
-      }
-      if (cnt == 0) { ++st.skipped; out[i] = 1.0f; continue; }
-      double db = sum / double(cnt);
-      double rf = k * std::max(1.0 / db - 1.0 / q[2], 0.0);
-      if (rf > s.max_radius) { rf = s.max_radius; ++st.clamped; }
-      size_t lit = 0;
-      for (size_t t = 0; t < nt; ++t) {
-        V2 c = tap(t, rf);
-        if (!G.in_map(c[0], c[1]) || G.fetch(c[0], c[1]) >= G.threshold(q, g, c[0], c[1], texel_world))
-          ++lit;
-      }
-      out[i] = float(double(lit) / double(nt));
-    }
-  }
+  auto out =
+      detail::shade_receivers(G, st, [&](int px, int py, const V3& q, const V3& g) -> double {
+        double texel_world = 2.0 * q[2] * G.tan_y / map.height;
+        double a = s.rotate ? pixel_angle(uint32_t(px), uint32_t(py)) : 0.0;
+        double ca = std::cos(a), sa = std::sin(a);
+        auto tap = [&](size_t t, double r) -> V2 {
+          double x = taps[2 * t], y = taps[2 * t + 1];
+          return {std::floor(q[0] + (ca * x - sa * y) * r) + 0.5,
+                  std::floor(q[1] + (sa * x + ca * y) * r) + 0.5};
+        };
+        double rs = std::min(k * std::max(1.0 / map.min_depth - 1.0 / q[2], 0.0), s.max_radius);
+        double sum = 0;
+        size_t cnt = 0;
+        for (size_t t = 0; t < nt; ++t) {
+          V2 c = tap(t, rs);
+          if (!G.in_map(c[0], c[1])) continue;
+          double zm = G.fetch(c[0], c[1]);
+          if (zm < G.threshold(q, g, c[0], c[1], texel_world)) {
+            sum += zm;
+            ++cnt;
+          }
+        }
+        if (cnt == 0) {
+          ++st.skipped;
+          return 1.0;
+        }
+        double db = sum / double(cnt);
+        double rf = k * std::max(1.0 / db - 1.0 / q[2], 0.0);
+        if (rf > s.max_radius) {
+          rf = s.max_radius;
+          ++st.clamped;
+        }
+        size_t lit = 0;
+        for (size_t t = 0; t < nt; ++t) {
+          V2 c = tap(t, rf);
+          if (!G.in_map(c[0], c[1]) ||
+              G.fetch(c[0], c[1]) >= G.threshold(q, g, c[0], c[1], texel_world))
+            ++lit;
+        }
+        return double(lit) / double(nt);
+      });
   if (stats) *stats = st;
   return out;
 }
@@ -179,8 +183,8 @@ shaders::ShadowmapParams shadowmap_params(const ShadowmapSettings& s, const Shad
   p.taps = taps;
   p.rotate = s.rotate ? 1u : 0u;
   const auto& m = s.world_to_light;
-  float* L[12] = {&p.l00, &p.l01, &p.l02, &p.l03, &p.l10, &p.l11, &p.l12, &p.l13,
-                  &p.l20, &p.l21, &p.l22, &p.l23};
+  float* L[12] = {&p.l00, &p.l01, &p.l02, &p.l03, &p.l10, &p.l11,
+                  &p.l12, &p.l13, &p.l20, &p.l21, &p.l22, &p.l23};
   for (int k = 0; k < 12; ++k) *L[k] = float(m[size_t(k)]);
   const double tan_y = std::tan(s.yfov_deg * kPi / 360.0);
   p.tan_y = float(tan_y);
@@ -231,7 +235,8 @@ class Pcss final : public ShadowmapMethod {
                 {gpu::Slot::buffer, gpu::Slot::buffer, gpu::Slot::buffer, gpu::Slot::buffer,
                  gpu::Slot::buffer, gpu::Slot::buffer, gpu::Slot::buffer, gpu::Slot::buffer},
                 sizeof(shaders::ShadowmapPush), SHADOWMAP_LOCAL, SHADOWMAP_LOCAL),
-        w_(w), h_(h) {
+        w_(w),
+        h_(h) {
     const auto taps = shadowmap_taps(s.taps, s.pattern);
     const shaders::ShadowmapParams p =
         shadowmap_params(s, map, w, h, has_position, uint32_t(taps.size() / 2));
@@ -272,17 +277,21 @@ std::unique_ptr<ShadowmapMethod> make_pcss(gpu::Context& ctx, const ShadowmapSet
 
 ShadowmapPass::ShadowmapPass(gpu::Context& ctx, const ShadowmapSettings& s,
                              const ShadowmapData& map, uint32_t w, uint32_t h, bool has_position) {
-  if (s.method == "pcss") method_ = detail::make_pcss(ctx, s, map, w, h, has_position);
-  else if (s.method == "vssm") method_ = detail::make_vssm(ctx, s, map, w, h, has_position);
-  else if (s.method == "cssm") method_ = detail::make_cssm(ctx, s, map, w, h, has_position);
-  else throw std::logic_error("no shadow-map method " + s.method);
+  if (s.method == "pcss")
+    method_ = detail::make_pcss(ctx, s, map, w, h, has_position);
+  else if (s.method == "vssm")
+    method_ = detail::make_vssm(ctx, s, map, w, h, has_position);
+  else if (s.method == "cssm")
+    method_ = detail::make_cssm(ctx, s, map, w, h, has_position);
+  else
+    throw std::logic_error("no shadow-map method " + s.method);
 }
 
 ShadowmapPass::~ShadowmapPass() = default;
 
 void ShadowmapPass::record(gpu::Sequence& seq, const gpu::Buffer& geo, const gpu::Buffer& fg,
-                           const gpu::Buffer& hard, const gpu::Buffer& map,
-                           const gpu::Buffer& soft, const std::string& label) {
+                           const gpu::Buffer& hard, const gpu::Buffer& map, const gpu::Buffer& soft,
+                           const std::string& label) {
   method_->record(seq, geo, fg, hard, map, soft, label);
 }
 

@@ -402,20 +402,9 @@ std::vector<float> vssm_reference(const ShadowmapInputs& in, const ShadowmapData
                                   const ShadowmapSettings& s, ShadowmapStats* stats) {
   Geom G(in, map, s);
   VssmRef R(G, s);
-  std::vector<float> out(G.n);
   ShadowmapStats st;
-  for (int py = 0; py < in.h; ++py)
-    for (int px = 0; px < in.w; ++px) {
-      const size_t i = size_t(py) * in.w + px;
-      if (in.fg[i] == 0.0f) { out[i] = in.hard[i]; continue; }
-      const V3 P = G.position(i), q = G.project(P);
-      if (!G.inside(q)) { out[i] = in.hard[i]; continue; }
-      ++st.pixels;
-      bool back = false;
-      const V3 g = G.receiver_plane(px, py, q, P, back);
-      if (back) { ++st.skipped; out[i] = in.hard[i]; continue; }
-      out[i] = float(R.shade(px, py, q, g, st));
-    }
+  auto out = detail::shade_receivers(
+      G, st, [&](int px, int py, const V3& q, const V3& g) { return R.shade(px, py, q, g, st); });
   if (stats) *stats = st;
   return out;
 }
