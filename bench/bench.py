@@ -111,7 +111,7 @@ L = ["# Benchmark: speed against error", "",
      "kind of machine; 'Cycles reaches it' interpolates its curve log-log.", "",
      "Effects a row does not set run at their defaults (soft shadows isg, glossy reflections isg, "
      "no depth of field); the `hard` / `none` rows are each effect's doing-nothing baseline.", "",
-     "First cut of issue 9: isg-synth cases, scaling, stability and memory are still to come. `python3 bench/bench.py --from-json` rewrites this page and its plots from bench/out/runs.json without re-running.", ""]
+     "Companion pages: [the shadow-map methods against isg](benchmark/shadowmap_methods.md) (`python3 bench/shadowmap_methods.py`, shared and isg-synth cases) and [scaling](benchmark/scaling.md) (`python3 bench/scaling.py`: pixels, samples, shadow-map size, light radius, tiles). Still to come (issue 9): the stability table and per-run memory. `python3 bench/bench.py --from-json` rewrites this page and its plots from bench/out/runs.json without re-running.", ""]
 COLOURS = {"isg": "#d62728", "pcss": "#1f77b4", "blur": "#2ca02c", "layered": "#9467bd",
            "hard": "#7f7f7f", "none": "#7f7f7f"}
 

@@ -103,21 +103,9 @@ TEST_F(ShadowmapGpu, PcssOnContactCaseHalvesTheHardShadowError) {
   job.params.set_text("shadows.method", "pcss", "test");
   auto f = isg::run::load_frame(job, (dir / "aovs.exr").string());
   auto st = isg::run::process_frame(ctx(), job, f);
-  const auto* soft = f.img.find("key.softshadow");
-  const auto* hard = f.img.find("key.shadow");
-  const auto* want = ref.find("key.softshadow");
-  const auto* mask = ref.find("mask");
-  ASSERT_TRUE(soft && hard && want && mask);
-  double es = 0, eh = 0;
-  size_t n = 0;
-  for (size_t i = 0; i < mask->data.size(); ++i) {
-    if (mask->data[i] <= 0.5f) continue;
-    es += std::pow(double(soft->data[i]) - want->data[i], 2);
-    eh += std::pow(double(hard->data[i]) - want->data[i], 2);
-    ++n;
-  }
-  es = std::sqrt(es / double(n));
-  eh = std::sqrt(eh / double(n));
+  const auto e = isg::test::shadow_error(f.img, ref);
+  const double es = e.soft, eh = e.hard;
+  const size_t n = e.pixels;
   ASSERT_EQ(st.shadowmaps.size(), 1u);
   std::printf("contact pcss: key.softshadow RMSE %.5f, hard %.5f (mask, %zu px), %.1f%% skipped\n",
               es, eh, n, 100 * st.shadowmaps[0].skipped_fraction);

@@ -30,10 +30,7 @@ fx::ShadowmapSettings vssm(const Planes& pl, int m, int h, int leaf) {
 
 // RMSE over the reference's mask of key.softshadow, method vssm with `sets` applied, and of
 // key.shadow (doing nothing), on a 192 x 108 isg-synth scene (shadow map 512²).
-struct Err {
-  double soft = 0, hard = 0;
-  double umbra = 0;  // mean result where the reference is in umbra (below 0.05)
-};
+using Err = isg::test::ShadowError;
 Err synth_error(isg::gpu::Context& ctx, const std::filesystem::path& dir,
                 const std::vector<std::pair<std::string, std::string>>& sets) {
   const auto ref = isg::io::read_exr(dir / "ref" / "softshadow_key.exr");
@@ -42,23 +39,7 @@ Err synth_error(isg::gpu::Context& ctx, const std::filesystem::path& dir,
   for (const auto& [k, v] : sets) job.params.set_text(k, v, "test");
   auto f = isg::run::load_frame(job, (dir / "aovs.exr").string());
   isg::run::process_frame(ctx, job, f);
-  const auto& mask = ref.find("mask")->data;
-  const auto& want = ref.find("key.softshadow")->data;
-  const auto& soft = f.img.find("key.softshadow")->data;
-  const auto& hard = f.img.find("key.shadow")->data;
-  Err e;
-  size_t n = 0, nu = 0;
-  for (size_t i = 0; i < mask.size(); ++i) {
-    if (mask[i] < 0.5f) continue;
-    if (want[i] < 0.05f) { e.umbra += soft[i]; ++nu; }
-    e.soft += std::pow(double(soft[i]) - want[i], 2);
-    e.hard += std::pow(double(hard[i]) - want[i], 2);
-    ++n;
-  }
-  e.soft = std::sqrt(e.soft / double(n));
-  e.hard = std::sqrt(e.hard / double(n));
-  e.umbra = nu ? e.umbra / double(nu) : 0.0;
-  return e;
+  return isg::test::shadow_error(f.img, ref);
 }
 }  // namespace
 

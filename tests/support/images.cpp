@@ -1,3 +1,5 @@
+#include <cmath>
+#include <stdexcept>
 #include "support/images.h"
 
 #include <unistd.h>
@@ -35,6 +37,27 @@ std::filesystem::path temp_dir(const std::string& name) {
   std::filesystem::remove_all(d);
   std::filesystem::create_directories(d);
   return d;
+}
+
+ShadowError shadow_error(const io::Image& out, const io::Image& ref, const std::string& light) {
+  const auto* mask = ref.find("mask");
+  const auto* want = ref.find(light + ".softshadow");
+  const auto* soft = out.find(light + ".softshadow");
+  const auto* hard = out.find(light + ".shadow");
+  if (!mask || !want || !soft || !hard) throw std::runtime_error("shadow_error: missing channels");
+  ShadowError e;
+  size_t nu = 0;
+  for (size_t i = 0; i < mask->data.size(); ++i) {
+    if (mask->data[i] <= 0.5f) continue;
+    if (want->data[i] < 0.05f) { e.umbra += soft->data[i]; ++nu; }
+    e.soft += std::pow(double(soft->data[i]) - want->data[i], 2);
+    e.hard += std::pow(double(hard->data[i]) - want->data[i], 2);
+    ++e.pixels;
+  }
+  e.soft = std::sqrt(e.soft / double(e.pixels));
+  e.hard = std::sqrt(e.hard / double(e.pixels));
+  e.umbra = nu ? e.umbra / double(nu) : 0.0;
+  return e;
 }
 
 std::filesystem::path shared_case(const std::string& name) {

@@ -36,4 +36,13 @@ std::filesystem::path temp_dir(const std::string& name);
 // ../shared/cases/<name>, or empty when ../shared is absent (tests then GTEST_SKIP).
 std::filesystem::path shared_case(const std::string& name);
 
+// A run's soft shadow against a reference, over the reference's `mask`: RMSE of `L.softshadow`
+// (the effect) and of `L.shadow` (doing nothing) against the reference's `L.softshadow`, and the
+// mean of `L.softshadow` where the reference is in umbra (below 0.05).
+struct ShadowError {
+  double soft = 0, hard = 0, umbra = 0;
+  size_t pixels = 0;
+};
+ShadowError shadow_error(const io::Image& out, const io::Image& ref, const std::string& light = "key");
+
 }  // namespace isg::test
