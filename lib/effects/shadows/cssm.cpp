@@ -347,9 +347,7 @@ class Cssm final : public ShadowmapMethod {
       chunk_sizes_.push_back(n);
     }
     unused_ = gpu::Buffer(ctx, 16, "shadowmap.cssm.unused");
-    std::vector<uint32_t> zero(SHADOWMAP_STATS, 0u);
-    stats_ = gpu::Buffer(ctx, zero.size() * sizeof(uint32_t), "shadowmap.stats");
-    stats_.upload(std::span<const uint32_t>(zero));
+    stats_ = zeroed_stats(ctx);
   }
 
   void record(gpu::Sequence& seq, const gpu::Buffer& geo, const gpu::Buffer& fg,

@@ -150,7 +150,9 @@ std::unique_ptr<ShadowmapMethod> make_cssm(gpu::Context& ctx, const ShadowmapSet
                                            const ShadowmapData& map, uint32_t w, uint32_t h,
                                            bool has_position);
 
-// The counters every method adds to (SHADOWMAP_STAT_*), read back after the sequence ran.
+// The counters every method adds to (SHADOWMAP_STAT_*): a zeroed buffer, read back after the
+// sequence ran.
+gpu::Buffer zeroed_stats(gpu::Context& ctx);
 ShadowmapStats read_stats(const gpu::Buffer& stats);
 
 }  // namespace isg::effects::detail

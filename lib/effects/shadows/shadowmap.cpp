@@ -215,6 +215,13 @@ shaders::ShadowmapParams shadowmap_params(const ShadowmapSettings& s, const Shad
 }
 
 namespace detail {
+gpu::Buffer zeroed_stats(gpu::Context& ctx) {
+  const std::vector<uint32_t> zero(SHADOWMAP_STATS, 0u);
+  gpu::Buffer b(ctx, zero.size() * sizeof(uint32_t), "shadowmap.stats");
+  b.upload(std::span<const uint32_t>(zero));
+  return b;
+}
+
 ShadowmapStats read_stats(const gpu::Buffer& stats) {
   auto v = stats.download_as<uint32_t>(SHADOWMAP_STATS);
   ShadowmapStats s;
@@ -244,9 +251,7 @@ class Pcss final : public ShadowmapMethod {
     params_.upload(&p, sizeof(p));
     taps_ = gpu::Buffer(ctx, taps.size() * sizeof(float), "shadowmap.taps");
     taps_.upload(std::span<const float>(taps));
-    std::vector<uint32_t> zero(SHADOWMAP_STATS, 0u);
-    stats_ = gpu::Buffer(ctx, zero.size() * sizeof(uint32_t), "shadowmap.stats");
-    stats_.upload(std::span<const uint32_t>(zero));
+    stats_ = zeroed_stats(ctx);
   }
   void record(gpu::Sequence& seq, const gpu::Buffer& geo, const gpu::Buffer& fg,
               const gpu::Buffer& hard, const gpu::Buffer& map, const gpu::Buffer& soft,

@@ -349,9 +349,7 @@ class Vssm final : public detail::ShadowmapMethod {
     hsm_ = gpu::Buffer(ctx, std::max<size_t>(v_.hsm_texels - base, 1) * 8, "vssm.hsm");
     sat1_ = gpu::Buffer(ctx, texels * 8, "vssm.sat_z");
     sat2_ = gpu::Buffer(ctx, texels * 8, "vssm.sat_z2");
-    std::vector<uint32_t> zero(SHADOWMAP_STATS, 0u);
-    stats_ = gpu::Buffer(ctx, zero.size() * sizeof(uint32_t), "vssm.stats");
-    stats_.upload(std::span<const uint32_t>(zero));
+    stats_ = detail::zeroed_stats(ctx);
   }
   void record(gpu::Sequence& seq, const gpu::Buffer& geo, const gpu::Buffer& fg,
               const gpu::Buffer& hard, const gpu::Buffer& map, const gpu::Buffer& soft,
