@@ -1,6 +1,7 @@
 // The `isg` executable: argument parsing and printing only; the work is in lib/.
 #include <CLI/CLI.hpp>
 #include <nlohmann/json.hpp>
+#include <sys/resource.h>
 #include <unistd.h>
 
 #include <chrono>
@@ -191,6 +192,13 @@ void print_timings(const isg::gpu::Context& ctx, const isg::run::LoadedFrame& f,
     std::cout << " (one piece; processed in " << st.tiles << " tiles: "
               << f.img.attributes.get_string("isg:tiles") << ")";
   std::cout << "\n";
+  const auto& mem = ctx.memory_use();
+  rusage ru{};
+  getrusage(RUSAGE_SELF, &ru);
+  std::cout << "memory peak: GPU " << double(mem.device_peak) / 1048576.0
+            << " MiB device-local + " << double(mem.staging_peak) / 1048576.0
+            << " MiB staging (all allocations, measured); host " << double(ru.ru_maxrss) / 1024.0
+            << " MiB resident\n";
   if (st.refl_skipped_fraction >= 0)
     std::cout << "reflections: " << st.refl_skipped_fraction * 100.0
               << "% of tiles had nothing glossy (cheap path)\n";
@@ -225,6 +233,7 @@ int run_single(const RunArgs& a, isg::run::JobConfig& job) {
   auto ctx = make_context(a);
   double init_ms = ms_since(t_gpu);
   auto st = isg::run::process_frame(ctx, job, f);
+  for (const auto& w : st.warnings) std::cerr << "isg: warning: " << w << "\n";
   double write_ms = isg::run::write_frame(job, f, a.output);
   std::cout << "wrote " << a.output << " (" << f.img.width << "x" << f.img.height << ", "
             << f.img.channels.size() << " channels)\n";
@@ -349,7 +358,9 @@ int run_sequence(const RunArgs& a, isg::run::JobConfig& job) {
     if (f) {
       try {
         warn_nonfinite(*f);
-        gpu_ms += isg::run::process_frame(ctx, job, *f).gpu_ms();
+        const auto st = isg::run::process_frame(ctx, job, *f);
+        for (const auto& w : st.warnings) std::cerr << "isg: warning: " << w << "\n";
+        gpu_ms += st.gpu_ms();
       } catch (const std::exception& e) {
         error = e.what();
         f.reset();

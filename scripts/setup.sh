@@ -2,9 +2,10 @@
 # One command from a fresh Debian 12 machine (as root or with sudo):
 #   scripts/setup.sh demo   installs what is needed, builds, runs `isg run` on samples/contact
 #   scripts/setup.sh test   installs what is needed, builds, runs the whole test suite (ctest)
+#   scripts/setup.sh bench  installs what is needed, builds, regenerates docs/benchmark* (bench/bench.py)
 set -euo pipefail
 mode=${1:-demo}
-case "$mode" in demo|test) ;; *) echo "usage: $0 demo|test" >&2; exit 2 ;; esac
+case "$mode" in demo|test|bench) ;; *) echo "usage: $0 demo|test|bench" >&2; exit 2 ;; esac
 cd "$(dirname "$0")/.."
 
 # Debian 12 packages only; nothing vendored.
@@ -14,6 +15,8 @@ pkgs=(cmake ninja-build g++ pkg-config
       libcli11-dev libtomlplusplus-dev nlohmann-json3-dev libgtest-dev)
 # The test suite also builds the libFuzzer harnesses with clang.
 [ "$mode" = test ] && pkgs+=(clang libclang-rt-14-dev)
+# The benchmark drives isg from Python and edits EXRs with oiiotool.
+[ "$mode" = bench ] && pkgs+=(python3 openimageio-tools)
 missing=()
 for p in "${pkgs[@]}"; do
   dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
@@ -35,6 +38,8 @@ if [ "$mode" = demo ]; then
   "$build/cli/isg" run --scene samples/contact/scene.json samples/contact/aovs.exr \
     -o out/contact.exr --timings
   echo "output: $(realpath out/contact.exr)"
+elif [ "$mode" = bench ]; then
+  python3 bench/bench.py --build "$build"
 else
   # XDG_RUNTIME_DIR silences a harmless loader warning on headless machines.
   export XDG_RUNTIME_DIR=${XDG_RUNTIME_DIR:-/tmp}

@@ -26,7 +26,7 @@ vec3 sm_project(vec3 P) {
 }
 
 bool sm_inside(vec3 q) {
-  return q.z > 0.0 && q.x >= 0.0 && q.y >= 0.0 && q.x < float(p.map_w) && q.y < float(p.map_h);
+  return q.z > 0.0 && q.z <= p.far_clip && q.x >= 0.0 && q.y >= 0.0 && q.x < float(p.map_w) && q.y < float(p.map_h);
 }
 
 // Receiver plane: the gradient of 1/z over (u, v), from the screen neighbours on the same

@@ -31,8 +31,9 @@ struct Kern {
   vec4 w0, w1;    // mip: their weights (the level blend included)
 };
 
-void kern_axis(float qc, float h, uint size, out ivec4 X, out vec3 w, out float len) {
-  float lo = max(qc - h, 0.0), hi = min(qc + h, float(size));
+// Block units (the basis's texels): `bound` the map's extent, `n` the basis size.
+void kern_axis(float qc, float h, float bound, uint size, out ivec4 X, out vec3 w, out float len) {
+  float lo = max(qc - h, 0.0), hi = min(qc + h, bound);
   float X0 = floor(lo), X1 = floor(hi);
   int n = int(size);
   X = ivec4(int(X0), min(int(X0) + 1, n), int(X1), min(int(X1) + 1, n));
@@ -42,7 +43,7 @@ void kern_axis(float qc, float h, uint size, out ivec4 X, out vec3 w, out float 
 
 void kern_level(vec2 q, uint l, float wl, out uint b, out uvec4 idx, out vec4 wt) {
   uint lw = c.level_w[l], lh = c.level_h[l];
-  vec2 u = vec2(q.x * float(lw) / float(p.map_w), q.y * float(lh) / float(p.map_h)) - 0.5;
+  vec2 u = vec2(q.x * float(lw) / float(c.level_w[0]), q.y * float(lh) / float(c.level_h[0])) - 0.5;
   vec2 i = floor(u), f = u - i;
   uint xa = uint(clamp(int(i.x), 0, int(lw) - 1)), xb = uint(clamp(int(i.x) + 1, 0, int(lw) - 1));
   uint ya = uint(clamp(int(i.y), 0, int(lh) - 1)), yb = uint(clamp(int(i.y) + 1, 0, int(lh) - 1));
@@ -51,11 +52,14 @@ void kern_level(vec2 q, uint l, float wl, out uint b, out uvec4 idx, out vec4 wt
   wt = wl * vec4((1.0 - f.x) * (1.0 - f.y), f.x * (1.0 - f.y), (1.0 - f.x) * f.y, f.x * f.y);
 }
 
+// q, h in map texels.
 Kern make_kern(vec2 q, float h) {
   Kern K;
-  float lx, ly;
-  kern_axis(q.x, h, p.map_w, K.X, K.wx, lx);
-  kern_axis(q.y, h, p.map_h, K.Y, K.wy, ly);
+  float lx, ly, f = float(1u << c.basis_shift);
+  q /= f;
+  h /= f;
+  kern_axis(q.x, h, float(p.map_w) / f, c.level_w[0], K.X, K.wx, lx);
+  kern_axis(q.y, h, float(p.map_h) / f, c.level_h[0], K.Y, K.wy, ly);
   K.inv = 1.0 / (c.sat_scale * lx * ly);
   // Mip level whose texel spans the kernel width 2h; linear between levels.
   float lev = clamp(log2(2.0 * h), 0.0, float(c.levels - 1u));
@@ -86,7 +90,7 @@ float to_float(uvec2 v) {  // two's complement int64, magnitude first (no cancel
 // Inclusive SAT entry (x, y) = sum over [0, x) x [0, y).
 uvec2 sat_at(uint layer, int x, int y) {
   if (x <= 0 || y <= 0) return uvec2(0u);
-  uint j = uint(y - 1) * p.map_w + uint(x - 1);
+  uint j = uint(y - 1) * c.level_w[0] + uint(x - 1);
   return uvec2(cssm_get(layer, 2u * j), cssm_get(layer, 2u * j + 1u));
 }
 

@@ -22,18 +22,27 @@ void put(uint layer, uint i, float v) {
 }
 
 void main() {
+  uint bw = c.level_w[0], bh = c.level_h[0];
   uint x = gl_GlobalInvocationID.x, y = gl_GlobalInvocationID.y;
-  if (x >= pc.width || y >= pc.height) return;
-  uint i = y * pc.width + x;
-  float z = cssm_norm(smap[i]);
-  float zeta = c.s_z * z;
-  uint M = c.order;
-  for (uint k = 0u; k < M; ++k) {
-    vec2 cs = cssm_cis(float(2u * k + 1u), zeta);
-    put(k, i, cs.x);
-    put(M + k, i, cs.y);
-    put(2u * M + k, i, z * cs.x);
-    put(3u * M + k, i, z * cs.y);
-  }
-  put(4u * M, i, z);
+  if (x >= bw || y >= bh) return;
+  uint i = y * bw + x, M = c.order, F = 1u << c.basis_shift;
+  // The block's average of each basis function over the map texels it covers.
+  float acc[CSSM_MAX_LAYERS];
+  for (uint l = 0u; l <= 4u * M; ++l) acc[l] = 0.0;
+  uint x1 = min((x + 1u) * F, pc.width), y1 = min((y + 1u) * F, pc.height);
+  for (uint yy = y * F; yy < y1; ++yy)
+    for (uint xx = x * F; xx < x1; ++xx) {
+      float z = cssm_norm(smap[yy * pc.width + xx]);
+      float zeta = c.s_z * z;
+      for (uint k = 0u; k < M; ++k) {
+        vec2 cs = cssm_cis(float(2u * k + 1u), zeta);
+        acc[k] += cs.x;
+        acc[M + k] += cs.y;
+        acc[2u * M + k] += z * cs.x;
+        acc[3u * M + k] += z * cs.y;
+      }
+      acc[4u * M] += z;
+    }
+  float inv = 1.0 / float((x1 - x * F) * (y1 - y * F));
+  for (uint l = 0u; l <= 4u * M; ++l) put(l, i, acc[l] * inv);
 }

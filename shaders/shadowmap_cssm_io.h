@@ -6,6 +6,7 @@ ISG_IO_BEGIN
 #define CSSM_MAX_LEVELS 16     // mip levels: maps up to 32768 texels a side
 #define CSSM_FILTER_SAT 0u     // shadows.cssm_filter = sat: 64-bit fixed-point SATs
 #define CSSM_FILTER_MIPMAP 1u  // shadows.cssm_filter = mipmap: 2x2 box pyramids (float)
+#define CSSM_MAX_LAYERS 65     // 4M + 1 for M <= 16 (shadows.cssm_order's range)
 #define CSSM_CHUNKS 8          // the layers are spread over up to 8 buffers (storage range)
 // Convolution soft shadow maps (thesis ch. 5). The basis images are layers of one buffer, in
 // this order, for k = 1..M and c_k = π(2k − 1) (eq. 5.10, Annen07):
@@ -24,10 +25,12 @@ struct CssmParams {
   float sharpen_a, sharpen_b;          // A, B of eq. 5.9
   float sat_scale;                     // SAT fixed point: integer units per unit of value
   uint chunk_layers, layer_elems;      // layers a buffer, uints a layer
+  uint basis_shift;                    // basis texels are 2^basis_shift map texels a side
   uint level_w[CSSM_MAX_LEVELS], level_h[CSSM_MAX_LEVELS];
   uint level_off[CSSM_MAX_LEVELS];  // first element of each mip level within a layer
 };
-// Basis: width, height = the map; mip: the level built (its size from CssmParams).
+// Basis: width, height = the map (the basis, level_w/h[0], is it in blocks); mip: the level
+// built (its size from CssmParams).
 struct CssmPush {
   uint width, height, level, pad0;
 };

@@ -31,7 +31,8 @@ struct ShadowmapParams {
   // Principal point (frame pixels; pixel coordinates here are the frame's: this image's plus
   // the origin); the image's origin in the frame, x | y << 16 (also the pixel hash's).
   float cx, cy;
-  uint origin, pad0;
+  uint origin;
+  float far_clip;  // the map's far plane: receivers beyond it are outside the map
 };
 struct ShadowmapPush {
   uint width;

@@ -72,6 +72,10 @@ std::vector<Def> shadows_params() {
        "images)", ""},
       {"shadows.cssm_filter", Type::choice, "sat", 0, 0, {"sat", "mipmap"},
        "cssm: prefiltering of the basis images, summed-area tables or mipmaps (§5.3.1)", ""},
+      {"shadows.cssm_max_basis", Type::integer, "1024", 64, 16384, {},
+       "cssm: largest side of the basis images, texels; a larger map is box-averaged 2x2 "
+       "(exactly, the basis being linear in its texels) until it fits, so 4M + 1 images fit "
+       "the device (kernels narrower than the averaged texel lose their detail)", ""},
       {"shadows.cssm_sharpen_a", Type::number, "30", 0, 1e3, {},
        "cssm: A of the sharpening exponent p = 1 + A exp(-B (d - z_avg)) (eq. 5.9); 0: none", ""},
       {"shadows.cssm_sharpen_b", Type::number, "100", 0, 1e6, {},

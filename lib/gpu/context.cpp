@@ -245,6 +245,34 @@ Context::Context(const ContextOptions& opt) : user_callback_(opt.on_message) {
 
 Context::~Context() { release(); }
 
+VkDeviceMemory Context::allocate_memory(const VkMemoryRequirements& req,
+                                        VkMemoryPropertyFlags props, const std::string& what) {
+  VkMemoryAllocateInfo ai{VK_STRUCTURE_TYPE_MEMORY_ALLOCATE_INFO};
+  ai.allocationSize = req.size;
+  ai.memoryTypeIndex = memory_type(req.memoryTypeBits, props);
+  VkDeviceMemory mem = VK_NULL_HANDLE;
+  if (vkAllocateMemory(device_, &ai, nullptr, &mem) != VK_SUCCESS) {
+    throw GpuError("out of GPU memory allocating " + std::to_string(req.size >> 20) + " MiB for " +
+                   what);
+  }
+  const bool staging = (props & VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT) != 0;
+  allocations_[mem] = {req.size, staging};
+  auto& now = staging ? memory_use_.staging_now : memory_use_.device_now;
+  auto& peak = staging ? memory_use_.staging_peak : memory_use_.device_peak;
+  now += req.size;
+  peak = std::max(peak, now);
+  return mem;
+}
+
+void Context::free_memory(VkDeviceMemory memory) {
+  const auto it = allocations_.find(memory);
+  if (it != allocations_.end()) {
+    (it->second.second ? memory_use_.staging_now : memory_use_.device_now) -= it->second.first;
+    allocations_.erase(it);
+  }
+  vkFreeMemory(device_, memory, nullptr);
+}
+
 void Context::release() {
   if (device_) {
     vkDeviceWaitIdle(device_);

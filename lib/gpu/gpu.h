@@ -12,6 +12,7 @@
 #include <span>
 #include <stdexcept>
 #include <string>
+#include <unordered_map>
 #include <vector>
 
 namespace isg::gpu {
@@ -216,6 +217,17 @@ class Context {
   const std::vector<std::string>& messages() const { return messages_; }
 
   void set_debug_name(VkObjectType type, uint64_t handle, const std::string& name) const;
+  // Every vkAllocateMemory and vkFreeMemory goes through these two, so the memory a run holds is
+  // known: `props` with HOST_VISIBLE counts as staging, anything else as device memory.
+  VkDeviceMemory allocate_memory(const VkMemoryRequirements& req, VkMemoryPropertyFlags props,
+                                 const std::string& what);
+  void free_memory(VkDeviceMemory memory);
+  struct MemoryUse {
+    VkDeviceSize device_now = 0, device_peak = 0;    // device-local buffers and images
+    VkDeviceSize staging_now = 0, staging_peak = 0;  // host-visible transfer buffers
+  };
+  const MemoryUse& memory_use() const { return memory_use_; }
+
   // Runs `record` in a one-shot command buffer and waits for it.
   void run_once(const std::function<void(VkCommandBuffer)>& record);
 
@@ -237,6 +249,8 @@ class Context {
   PFN_vkSetDebugUtilsObjectNameEXT set_name_ = nullptr;
   std::vector<std::string> messages_;
   std::function<void(const std::string&)> user_callback_;
+  std::unordered_map<VkDeviceMemory, std::pair<VkDeviceSize, bool>> allocations_;  // size, staging
+  MemoryUse memory_use_;
 };
 
 void check(VkResult r, const char* what);

@@ -22,14 +22,13 @@ struct Staging {
     check(vkCreateBuffer(ctx.device(), &bi, nullptr, &buffer), "vkCreateBuffer(staging)");
     VkMemoryRequirements req{};
     vkGetBufferMemoryRequirements(ctx.device(), buffer, &req);
-    VkMemoryAllocateInfo ai{VK_STRUCTURE_TYPE_MEMORY_ALLOCATE_INFO};
-    ai.allocationSize = req.size;
-    ai.memoryTypeIndex = ctx.memory_type(
-        req.memoryTypeBits, VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT | VK_MEMORY_PROPERTY_HOST_COHERENT_BIT);
-    VkResult r = vkAllocateMemory(ctx.device(), &ai, nullptr, &memory);
-    if (r != VK_SUCCESS) {
+    try {
+      memory = ctx.allocate_memory(
+          req, VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT | VK_MEMORY_PROPERTY_HOST_COHERENT_BIT,
+          "a staging buffer");
+    } catch (...) {
       vkDestroyBuffer(ctx.device(), buffer, nullptr);
-      check(r, "vkAllocateMemory(staging)");
+      throw;
     }
     vkBindBufferMemory(ctx.device(), buffer, memory, 0);
     check(vkMapMemory(ctx.device(), memory, 0, bytes, 0, &mapped), "vkMapMemory");
@@ -37,7 +36,7 @@ struct Staging {
   ~Staging() {
     vkUnmapMemory(ctx.device(), memory);
     vkDestroyBuffer(ctx.device(), buffer, nullptr);
-    vkFreeMemory(ctx.device(), memory, nullptr);
+    ctx.free_memory(memory);
   }
   Staging(const Staging&) = delete;
   Staging& operator=(const Staging&) = delete;
@@ -64,19 +63,6 @@ void barrier_all(VkCommandBuffer cmd) {
                        0, 1, &mb, 0, nullptr, 0, nullptr);
 }
 
-VkDeviceMemory allocate(Context& ctx, const VkMemoryRequirements& req, const std::string& what) {
-  VkMemoryAllocateInfo ai{VK_STRUCTURE_TYPE_MEMORY_ALLOCATE_INFO};
-  ai.allocationSize = req.size;
-  ai.memoryTypeIndex = ctx.memory_type(req.memoryTypeBits, VK_MEMORY_PROPERTY_DEVICE_LOCAL_BIT);
-  VkDeviceMemory mem = VK_NULL_HANDLE;
-  VkResult r = vkAllocateMemory(ctx.device(), &ai, nullptr, &mem);
-  if (r != VK_SUCCESS) {
-    throw GpuError("out of GPU memory allocating " + std::to_string(req.size >> 20) + " MiB for " +
-                   what);
-  }
-  return mem;
-}
-
 }  // namespace
 
 // ---- Buffer ----
@@ -98,7 +84,7 @@ Buffer::Buffer(Context& ctx, VkDeviceSize bytes, const std::string& debug_name) 
   VkMemoryRequirements req{};
   vkGetBufferMemoryRequirements(ctx.device(), buffer_, &req);
   try {
-    memory_ = allocate(ctx, req, debug_name);
+    memory_ = ctx.allocate_memory(req, VK_MEMORY_PROPERTY_DEVICE_LOCAL_BIT, debug_name);
   } catch (...) {
     release();
     throw;
@@ -117,7 +103,7 @@ Buffer::~Buffer() { release(); }
 void Buffer::release() {
   if (ctx_) {
     if (buffer_) vkDestroyBuffer(ctx_->device(), buffer_, nullptr);
-    if (memory_) vkFreeMemory(ctx_->device(), memory_, nullptr);
+    if (memory_) ctx_->free_memory(memory_);
   }
   buffer_ = VK_NULL_HANDLE;
   memory_ = VK_NULL_HANDLE;
@@ -202,7 +188,7 @@ Image::Image(Context& ctx, uint32_t width, uint32_t height, VkFormat format,
   VkMemoryRequirements req{};
   vkGetImageMemoryRequirements(ctx.device(), image_, &req);
   try {
-    memory_ = allocate(ctx, req, debug_name);
+    memory_ = ctx.allocate_memory(req, VK_MEMORY_PROPERTY_DEVICE_LOCAL_BIT, debug_name);
     vkBindImageMemory(ctx.device(), image_, memory_, 0);
     VkImageViewCreateInfo vi{VK_STRUCTURE_TYPE_IMAGE_VIEW_CREATE_INFO};
     vi.image = image_;
@@ -244,7 +230,7 @@ void Image::release() {
   if (ctx_) {
     if (view_) vkDestroyImageView(ctx_->device(), view_, nullptr);
     if (image_) vkDestroyImage(ctx_->device(), image_, nullptr);
-    if (memory_) vkFreeMemory(ctx_->device(), memory_, nullptr);
+    if (memory_) ctx_->free_memory(memory_);
   }
   view_ = VK_NULL_HANDLE;
   image_ = VK_NULL_HANDLE;

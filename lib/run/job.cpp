@@ -185,6 +185,7 @@ Stats execute_tiled(gpu::Context& ctx, const JobConfig& job, LoadedFrame& f, int
       }
       // Statistics: counts add up, fractions are averaged over the tiles (weighted by pixels
       // for the shadow-map methods); aprons are counted in each tile that reads them.
+      total.warnings.insert(st.warnings.begin(), st.warnings.end());
       if (tiles == 1) {
         total.shadows = st.shadows;
         total.shadowmaps = st.shadowmaps;

@@ -63,8 +63,11 @@ Stats execute(gpu::Context& ctx, const plan::Plan& plan, const io::Roles& roles,
   gpu::Sequence seq(ctx);
   const io::RoleBinding* beauty = roles.get("beauty");
   // A light's shadow map, read on the host from its own EXR into the plan's L.shadowmap.
-  auto upload_map = [](const effects::ShadowmapSettings& s, gpu::Buffer& mb) {
-    auto map = effects::load_shadowmap(s.file);
+  auto upload_map = [&st](const effects::ShadowmapSettings& s, gpu::Buffer& mb) {
+    auto map = effects::load_shadowmap(s);
+    if (map.nonfinite > 0)
+      st.warnings.insert(s.file.string() + ": " + std::to_string(map.nonfinite) +
+                         " NaN/Inf depths, read as background (no occluder)");
     if (uint64_t(map.z.size()) * 4 != mb.size())
       throw io::IoError(s.file.string() + ": shadow map is " + std::to_string(map.width) + "x" +
                         std::to_string(map.height) + ", not the scene file's size");

@@ -3,6 +3,7 @@
 #pragma once
 
 #include <cstdint>
+#include <set>
 #include <string>
 #include <vector>
 
@@ -36,6 +37,7 @@ struct Stats {
   };
   std::vector<ShadowmapSkip> shadowmaps;
   int tiles = 0;  // large plates: tiles the frame was processed in (0: one piece)
+  std::set<std::string> warnings;  // one line each, naming the file (e.g. NaN depths in a map)
   double gpu_ms() const;
 };
 

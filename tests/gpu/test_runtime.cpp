@@ -47,6 +47,27 @@ TEST_F(GpuTest, BufferRoundTrip) {
   EXPECT_EQ(back[12], v[12]);
 }
 
+// The memory accounting behind `--timings`' "memory peak": a buffer counts while alive (at least
+// its size: the driver may round up), staging counts apart, and the peak outlives the buffer.
+TEST_F(GpuTest, MemoryUseFollowsAllocations) {
+  const auto before = ctx().memory_use();
+  const VkDeviceSize bytes = 3 << 20;
+  {
+    gpu::Buffer b(ctx(), bytes, "accounted");
+    const auto during = ctx().memory_use();
+    EXPECT_GE(during.device_now - before.device_now, bytes);
+    EXPECT_LT(during.device_now - before.device_now, bytes + (1 << 20));
+    EXPECT_GE(during.device_peak, during.device_now);
+    std::vector<float> v(bytes / sizeof(float), 1.0f);
+    b.upload(std::span<const float>(v));
+    EXPECT_GE(ctx().memory_use().staging_peak, bytes);
+    EXPECT_EQ(ctx().memory_use().staging_now, before.staging_now);  // the staging copy is gone
+  }
+  const auto after = ctx().memory_use();
+  EXPECT_EQ(after.device_now, before.device_now);
+  EXPECT_GE(after.device_peak, before.device_now + bytes);
+}
+
 TEST_F(GpuTest, ImageRoundTrip) {
   const uint32_t w = 13, h = 7;
   std::vector<float> v(w * h * 4);

@@ -48,7 +48,7 @@ Derived derive(gpu::Context& ctx, const std::string& scene_name) {
   auto s = fx::shadowmap_settings(*light, &*scene.camera, scene.scene_radius, fx::default_params(), "derive",
                                   img.height);
   s.file = dir / light->shadowmap->file.filename();
-  const auto map = fx::load_shadowmap(s.file);
+  const auto map = fx::load_shadowmap(s);
   in.w = img.width;
   in.h = img.height;
   const size_t n = img.pixels();

@@ -112,3 +112,71 @@ TEST_F(Vssm, ContactShadowsStayAttached) {
   EXPECT_LT(e.soft, 0.5 * e.hard);  // measured 0.0149 against 0.0552
   EXPECT_LT(e.umbra, 0.05);         // the umbra under the sphere and the pole stays dark
 }
+
+// A huge depth range in the shadow map: isg-synth `depth-range` is `contact` before a backdrop
+// 1e6 m away, which the light's map sees beyond its far plane (100 m). Those texels are
+// background (load_shadowmap clips at the far plane), so every map method shades contact's
+// pixels exactly as on `contact`, and the backdrop comes out lit. Unclipped, the SAT methods'
+// depth range ran to 1e6 and their RMSE went from 0.013-0.015 to 0.18.
+TEST_F(Vssm, BackdropBeyondTheFarPlaneChangesNothing) {
+  const auto near = isg::test::synth_case({"contact", 160, 90, 0, 1, 256}, "vssm-range-near");
+  const auto far = isg::test::synth_case({"depth-range", 160, 90, 0, 1, 256}, "vssm-range-far");
+  for (const char* method : {"vssm", "cssm", "pcss"}) {
+    std::vector<float> out[2], alpha;
+    for (int k = 0; k < 2; ++k) {
+      const auto& dir = k ? far : near;
+      isg::run::JobConfig job{isg::io::read_scene(dir / "scene.json"), "", fx::default_params()};
+      job.params.set_text("shadows.method", method, "test");
+      job.params.set_text("reflections.method", "none", "test");
+      auto f = isg::run::load_frame(job, (dir / "aovs.exr").string());
+      isg::run::process_frame(ctx(), job, f);
+      out[k] = f.img.find("key.softshadow")->data;
+      if (k == 0) alpha = f.img.find("A")->data;
+    }
+    size_t backdrop = 0;
+    for (size_t i = 0; i < alpha.size(); ++i) {
+      if (alpha[i] > 0.0f) {
+        ASSERT_EQ(out[1][i], out[0][i]) << method << " pixel " << i;
+      } else {
+        ++backdrop;
+        ASSERT_EQ(out[1][i], 1.0f) << method << " backdrop pixel " << i;
+      }
+    }
+    EXPECT_GT(backdrop, alpha.size() / 20) << method;
+  }
+}
+
+// NaN/Inf in the light's shadow map: read as background (no occluder) and reported, so one bad
+// texel cannot poison a summed-area table. Every map method gives exactly what it gives on the
+// same map with those texels written as background, and the run carries a warning naming the
+// file.
+TEST_F(Vssm, NonFiniteMapTexelsReadAsBackground) {
+  const auto dir = isg::test::synth_case({"contact", 160, 90, 0, 1, 256}, "vssm-nan-map");
+  auto map = isg::io::read_exr(dir / "shadowmap_key.exr");
+  auto clean = map;
+  const float bad[3] = {std::nanf(""), INFINITY, -INFINITY};
+  for (int k = 0; k < 60; ++k) {
+    const size_t i = size_t(k) * 1087 % map.pixels();  // spread over the map, lit and shadowed
+    map.find("Z")->data[i] = bad[k % 3];
+    clean.find("Z")->data[i] = 1e10f;
+  }
+  isg::io::write_exr(dir / "map_nan.exr", map, {});
+  isg::io::write_exr(dir / "map_bg.exr", clean, {});
+  for (const char* method : {"vssm", "cssm", "pcss"}) {
+    std::vector<float> out[2];
+    for (int k = 0; k < 2; ++k) {
+      isg::run::JobConfig job{isg::io::read_scene(dir / "scene.json"), "", fx::default_params()};
+      job.scene.lights.at(0).shadowmap->file = dir / (k ? "map_bg.exr" : "map_nan.exr");
+      job.params.set_text("shadows.method", method, "test");
+      job.params.set_text("reflections.method", "none", "test");
+      auto f = isg::run::load_frame(job, (dir / "aovs.exr").string());
+      const auto st = isg::run::process_frame(ctx(), job, f);
+      ASSERT_EQ(st.warnings.size(), k ? 0u : 1u) << method;
+      if (!k) {
+        EXPECT_NE(st.warnings.begin()->find("map_nan.exr: 60 NaN/Inf"), std::string::npos);
+      }
+      out[k] = f.img.find("key.softshadow")->data;
+    }
+    for (size_t i = 0; i < out[0].size(); ++i) ASSERT_EQ(out[0][i], out[1][i]) << method << " " << i;
+  }
+}

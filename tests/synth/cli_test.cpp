@@ -160,7 +160,8 @@ TEST(SynthCli, ListsScenes) {
   std::stringstream ss;
   ss << f.rdbuf();
   const std::string text = ss.str();
-  for (const char* s : {"parallel-planes", "contact", "stack", "gloss", "dof", "far-world"})
+  for (const char* s : {"parallel-planes", "contact", "stack", "gloss", "dof", "far-world", "grazing",
+                        "depth-range"})
     EXPECT_NE(text.find(s), std::string::npos) << s;
 }
 

@@ -122,6 +122,30 @@ TEST(FarWorld, SameImagesAsContact) {
   EXPECT_LE(differ, 5u);
 }
 
+// depth-range: contact's pixels are unchanged where contact had geometry, the rest is the
+// backdrop at planar depth ~1e6 (lit, finite), and scene_radius ignores the backdrop.
+TEST(DepthRange, ContactBeforeAFarBackdrop) {
+  const Options oc = small("contact", 96, 54), od = small("depth-range", 96, 54);
+  const Scene sc = build_scene(oc), sd = build_scene(od);
+  EXPECT_EQ(scene_radius(sd), scene_radius(sc));
+  const Image ac = render_aovs(sc, oc), ad = render_aovs(sd, od);
+  const int z = ac.channel("Z"), a = ac.channel("A"), ks = ac.channel("key.shadow");
+  size_t wall = 0;
+  for (int y = 0; y < ac.height; ++y)
+    for (int x = 0; x < ac.width; ++x) {
+      if (ac.at(x, y, a) > 0) {
+        EXPECT_EQ(ad.at(x, y, z), ac.at(x, y, z));
+        continue;
+      }
+      ++wall;
+      EXPECT_EQ(ad.at(x, y, a), 1.0f);
+      EXPECT_GT(ad.at(x, y, z), 0.9e6f);
+      EXPECT_LT(ad.at(x, y, z), 1.5e6f);
+      EXPECT_EQ(ad.at(x, y, ks), 1.0f);
+    }
+  EXPECT_GT(wall, size_t(ac.width * ac.height / 20));
+}
+
 TEST(Aovs, ConsistentSingleSample) {
   const Options o = small("contact");
   const Scene s = build_scene(o);
@@ -328,7 +352,7 @@ TEST(Options, RejectedWithTheOptionNamed) {
   o.fstop = -1;
   EXPECT_NE(message(o).find("--fstop"), std::string::npos);
   EXPECT_EQ(message(Options{}), "");
-  EXPECT_EQ(scene_names().size(), 6u);
+  EXPECT_EQ(scene_names().size(), 8u);
 }
 
 }  // namespace

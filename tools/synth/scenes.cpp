@@ -160,6 +160,31 @@ Scene far_world(int frame) {
   return s;
 }
 
+// contact seen from just above the floor: the camera 0.55 m high and 9.8 m back, so the floor
+// meets the view at 75° to 89° from its normal and penumbrae are squeezed on screen.
+Scene grazing(int frame) {
+  Scene s = contact(frame);
+  s.name = "grazing";
+  s.camera.position = {0.4, -9.5, 0.55};
+  s.camera.focus_distance = length(s.camera.target - s.camera.position);
+  return s;
+}
+
+// contact with a backdrop wall 1e6 m behind it that fills the rest of the frame: depth spans
+// 1.5 to 1e6 m in one image (and the far plane moves out to 1e7 m). The wall faces the camera
+// and the key; it is left out of scene_radius, as a renderer's scene scale would leave the sky.
+Scene depth_range(int frame) {
+  Builder b;
+  b.s = contact(frame);
+  b.s.name = "depth-range";
+  const double far = 1e6;
+  b.quad("backdrop", {0, far, 0}, {2 * far, 0, 0}, {0, 0, 2 * far},
+         b.material(diffuse({0.5, 0.5, 0.5})));
+  b.s.prims.back().backdrop = true;
+  b.s.camera.far = 1e7;
+  return b.s;
+}
+
 using Maker = Scene (*)(int);
 struct Entry {
   Maker make;
@@ -176,6 +201,8 @@ const std::map<std::string, Entry>& registry() {
        {gloss, "mirror-like floor, roughness 0.1 / 0.35 halves, objects at varied heights"}},
       {"dof", {dof, "foreground, in-focus and background objects, small bright emitters"}},
       {"far-world", {far_world, "contact translated by (1e5, 1e5, 1e5)"}},
+      {"grazing", {grazing, "contact seen from 0.55 m above the floor (75-89 deg to its normal)"}},
+      {"depth-range", {depth_range, "contact before a backdrop 1e6 m away (depth 1.5 to 1e6 m)"}},
   };
   return r;
 }
@@ -199,7 +226,8 @@ std::array<double, 16> look_at(Vec3 pos, Vec3 target) {
 
 std::vector<std::string> scene_names() {
   // Presentation order rather than alphabetical.
-  return {"parallel-planes", "contact", "stack", "gloss", "dof", "far-world"};
+  return {"parallel-planes", "contact", "stack", "gloss", "dof", "far-world", "grazing",
+          "depth-range"};
 }
 
 std::string scene_description(const std::string& name) {
@@ -294,6 +322,7 @@ double scene_radius(const Scene& s) {
   const Vec3 c = s.camera.target;
   double r = length(s.key.position - c);
   for (const auto& p : s.prims) {
+    if (p.backdrop) continue;
     Vec3 h = p.half;
     if (p.kind == Primitive::Kind::sphere) h = {p.radius, p.radius, p.radius};
     if (p.kind == Primitive::Kind::cylinder) h = {p.radius, p.radius, p.half.z};

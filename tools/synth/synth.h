@@ -54,6 +54,7 @@ struct Primitive {
   Vec3 half;          // box half sizes; cylinder: half.z = half height
   Vec3 u, v;          // quad half axes
   int material = 0;
+  bool backdrop = false;  // far background: left out of scene_radius (the set's scale, not the sky's)
 };
 
 // lights[0] "key". For the AOVs it is a point at `position`: isotropic intensity for a sphere

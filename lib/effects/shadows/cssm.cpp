@@ -23,6 +23,11 @@
 //   √π/2 · r), at least one texel wide, clipped to the map: SAT integrates the texel-constant
 //   basis exactly over the fractional box; mipmaps sample the level whose texel spans the box
 //   (bilinear, linear between levels, clamp to edge).
+// - Basis resolution: a map larger than shadows.cssm_max_basis a side is averaged in f x f
+//   blocks (f = 2^shift, the smallest that fits; edge blocks average the texels they cover)
+//   before prefiltering. The basis is linear in the texels, so each block holds exactly the box
+//   average of the full-resolution basis; kernels and lookups then work in block units (q/f,
+//   h/f). This is what lets 4M + 1 layers of a 4096² map fit a device.
 #include <algorithm>
 #include <cmath>
 #include <stdexcept>
@@ -61,6 +66,7 @@ double f_m(int M, double x) {
 struct Setup {
   int M = 4;
   bool sat = true;
+  int shift = 0, bw = 0, bh = 0;  // basis blocks of 2^shift texels a side; basis size
   double alpha = 1.0, x0 = 0.0, s_z = 1.0, zmin = 0.0, zrange = 1.0;
 };
 
@@ -71,6 +77,10 @@ Setup make_setup(const ShadowmapData& map, const ShadowmapSettings& s) {
   if (s.cssm_filter != "sat" && s.cssm_filter != "mipmap")
     throw std::invalid_argument("shadows.cssm_filter must be sat or mipmap");
   u.sat = s.cssm_filter == "sat";
+  if (s.cssm_max_basis < 1) throw std::invalid_argument("shadows.cssm_max_basis out of range");
+  while (std::max(map.width, map.height) > (s.cssm_max_basis << u.shift)) ++u.shift;
+  u.bw = (map.width + (1 << u.shift) - 1) >> u.shift;
+  u.bh = (map.height + (1 << u.shift) - 1) >> u.shift;
   // f_M's extrema lie at x = j / (2M); its lit-side troughs at even j (§5.2.3).
   double trough = 1.0;
   for (int j = 2; j <= 2 * u.M - 2; j += 2) trough = std::min(trough, f_m(u.M, -j / (2.0 * u.M)));
@@ -115,22 +125,31 @@ Levels mip_levels(int w, int h, bool sat) {
 class Prefiltered {
  public:
   Prefiltered(const ShadowmapData& map, const Setup& u)
-      : u_(u), W_(map.width), H_(map.height), L_(mip_levels(map.width, map.height, u.sat)) {
-    const int layers = 4 * u.M + 1;
-    const size_t n = size_t(W_) * size_t(H_);
-    std::vector<std::vector<double>> base(static_cast<size_t>(layers), std::vector<double>(n));
-    for (size_t i = 0; i < n; ++i) {
-      const double z = norm_depth(u, map.z[i]), zeta = u.s_z * z;
-      for (int k = 0; k < u.M; ++k) {
-        const double c = kPi * (2 * k + 1);
-        const double cs = std::cos(c * zeta), sn = std::sin(c * zeta);
-        base[size_t(k)][i] = cs;
-        base[size_t(u.M + k)][i] = sn;
-        base[size_t(2 * u.M + k)][i] = z * cs;
-        base[size_t(3 * u.M + k)][i] = z * sn;
+      : u_(u), W_(u.bw), H_(u.bh), f_(double(1 << u.shift)), Wf_(map.width / f_),
+        Hf_(map.height / f_), L_(mip_levels(u.bw, u.bh, u.sat)) {
+    const int layers = 4 * u.M + 1, F = 1 << u.shift;
+    std::vector<std::vector<double>> base(static_cast<size_t>(layers),
+                                          std::vector<double>(size_t(W_) * size_t(H_)));
+    for (int by = 0; by < H_; ++by)
+      for (int bx = 0; bx < W_; ++bx) {
+        // The block's average of each basis function over the map texels it covers.
+        std::vector<double> acc(size_t(layers), 0.0);
+        int n = 0;
+        for (int y = by * F; y < std::min((by + 1) * F, map.height); ++y)
+          for (int x = bx * F; x < std::min((bx + 1) * F, map.width); ++x, ++n) {
+            const double z = norm_depth(u, map.z[size_t(y) * map.width + x]), zeta = u.s_z * z;
+            for (int k = 0; k < u.M; ++k) {
+              const double c = kPi * (2 * k + 1);
+              const double cs = std::cos(c * zeta), sn = std::sin(c * zeta);
+              acc[size_t(k)] += cs;
+              acc[size_t(u.M + k)] += sn;
+              acc[size_t(2 * u.M + k)] += z * cs;
+              acc[size_t(3 * u.M + k)] += z * sn;
+            }
+            acc[size_t(4 * u.M)] += z;
+          }
+        for (int l = 0; l < layers; ++l) base[size_t(l)][size_t(by) * W_ + bx] = acc[size_t(l)] / n;
       }
-      base[size_t(4 * u.M)][i] = z;
-    }
     for (auto& b : base) {
       if (u.sat) {
         std::vector<double> t(size_t(W_ + 1) * size_t(H_ + 1), 0.0);
@@ -162,14 +181,18 @@ class Prefiltered {
     }
   }
 
-  // The box average of one layer over half-width h about (qx, qy) (eq. 5.3: w * B_i).
+  // The box average of one layer over half-width h about (qx, qy) (eq. 5.3: w * B_i); map
+  // texels in, block units inside.
   double box(int layer, double qx, double qy, double h) const {
     const auto& T = tables_[size_t(layer)];
+    qx /= f_;
+    qy /= f_;
+    h /= f_;
     if (u_.sat) {
       const auto& t = T[0];
       auto S = [&](int x, int y) { return t[size_t(y) * (W_ + 1) + x]; };
-      const double x0 = std::max(qx - h, 0.0), x1 = std::min(qx + h, double(W_));
-      const double y0 = std::max(qy - h, 0.0), y1 = std::min(qy + h, double(H_));
+      const double x0 = std::max(qx - h, 0.0), x1 = std::min(qx + h, Wf_);
+      const double y0 = std::max(qy - h, 0.0), y1 = std::min(qy + h, Hf_);
       const int X0 = int(std::floor(x0)), X1 = int(std::floor(x1));
       const int Y0 = int(std::floor(y0)), Y1 = int(std::floor(y1));
       // Spans [X0, X1), cell X0, cell X1 with weights 1, −frac(x0), frac(x1): the exact
@@ -205,7 +228,8 @@ class Prefiltered {
 
  private:
   const Setup& u_;
-  int W_, H_;
+  int W_, H_;        // basis size (blocks)
+  double f_, Wf_, Hf_;  // block side in map texels; the map's size in blocks
   Levels L_;
   std::vector<std::vector<std::vector<double>>> tables_;  // [layer][level][texel]
 };
@@ -296,12 +320,14 @@ class Cssm final : public ShadowmapMethod {
         map_w_(uint32_t(map.width)),
         map_h_(uint32_t(map.height)) {
     const Setup u = make_setup(map, s);
-    const Levels L = mip_levels(map.width, map.height, u.sat);
+    const Levels L = mip_levels(u.bw, u.bh, u.sat);
     if (L.w.size() > CSSM_MAX_LEVELS) throw std::invalid_argument("cssm: shadow map too large");
     shaders::CssmParams c{};
     c.order = uint32_t(u.M);
     c.prefilter = u.sat ? CSSM_FILTER_SAT : CSSM_FILTER_MIPMAP;
     c.layers = uint32_t(4 * u.M + 1);
+    if (c.layers > CSSM_MAX_LAYERS) throw std::invalid_argument("cssm: order above 16");
+    c.basis_shift = uint32_t(u.shift);
     c.levels = uint32_t(L.w.size());
     c.zmin = float(u.zmin);
     c.zrange = float(u.zrange);
@@ -330,8 +356,9 @@ class Cssm final : public ShadowmapMethod {
       throw std::invalid_argument(
           "cssm: the " + std::to_string(c.layers) + " basis images of a " +
           std::to_string(map.width) + "x" + std::to_string(map.height) +
-          " shadow map exceed the device's storage buffers; lower shadows.cssm_order or use "
-          "shadows.cssm_filter=mipmap");
+          " shadow map (at " + std::to_string(u.bw) + "x" + std::to_string(u.bh) +
+          ") exceed the device's storage buffers; lower shadows.cssm_max_basis or "
+          "shadows.cssm_order");
     c.chunk_layers = uint32_t(per);
     c.layer_elems = uint32_t(elems);
     cparams_ = c;
@@ -361,10 +388,10 @@ class Cssm final : public ShadowmapMethod {
     };
     shaders::CssmPush bp{map_w_, map_h_, 0u, 0u};
     seq.dispatch(basis_, with_tables({gpu::Binding::of(cssm_params_), gpu::Binding::of(map)}), bp,
-                 map_w_, map_h_, label + ".basis");
+                 c.level_w[0], c.level_h[0], label + ".basis");
     if (c.prefilter == CSSM_FILTER_SAT) {
       for (size_t k = 0; k < tables_.size(); ++k)
-        sat_.record_scan(seq, tables_[k], map_w_, map_h_, chunk_sizes_[k], label + ".sat");
+        sat_.record_scan(seq, tables_[k], c.level_w[0], c.level_h[0], chunk_sizes_[k], label + ".sat");
     } else {
       for (uint32_t l = 1; l < c.levels; ++l) {
         shaders::CssmPush mp{c.level_w[l], c.level_h[l], l, 0u};

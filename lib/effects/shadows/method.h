@@ -46,7 +46,7 @@ struct Geom {
     return {(x / (z * tan_x) * 0.5 + 0.5) * map.width, (0.5 - y / (z * tan_y) * 0.5) * map.height, z};
   }
   bool inside(const V3& q) const {
-    return q[2] > 0 && q[0] >= 0 && q[1] >= 0 && q[0] < map.width && q[1] < map.height;
+    return q[2] > 0 && q[2] <= double(float(std::min(s.far_clip, 1e30))) && q[0] >= 0 && q[1] >= 0 && q[0] < map.width && q[1] < map.height;
   }
   V3 receiver_plane(int px, int py, const V3& q, const V3& P, bool& back) const {
     std::array<V3, 2> d{}, t{};

@@ -36,6 +36,7 @@ ShadowmapSettings shadowmap_settings(const io::Light& light, const io::Camera* c
   s.file = light.shadowmap->file;
   s.world_to_light = light.shadowmap->world_to_light;
   s.yfov_deg = light.shadowmap->yfov_deg;
+  s.far_clip = light.shadowmap->far_clip;
   s.light_radius = light_size(light);
   s.taps = int(p.integer("shadows.pcss_taps"));
   s.pattern = p.choice("shadows.pcss_pattern");
@@ -52,6 +53,7 @@ ShadowmapSettings shadowmap_settings(const io::Light& light, const io::Camera* c
   s.vssm_contact = p.number("shadows.vssm_contact");
   s.cssm_order = int(p.integer("shadows.cssm_order"));
   s.cssm_filter = p.choice("shadows.cssm_filter");
+  s.cssm_max_basis = int(p.integer("shadows.cssm_max_basis"));
   s.cssm_a = p.number("shadows.cssm_sharpen_a");
   s.cssm_b = p.number("shadows.cssm_sharpen_b");
   s.has_camera = cam != nullptr;
@@ -112,11 +114,19 @@ ShadowmapData make_shadowmap(int width, int height, std::vector<float> z) {
   return d;
 }
 
-ShadowmapData load_shadowmap(const std::filesystem::path& file) {
-  io::Image img = io::read_exr(file);
-  const io::Channel* z = img.find("Z");
-  if (!z) throw io::IoError(file.string() + ": shadow map has no channel Z");
-  return make_shadowmap(img.width, img.height, z->data);
+ShadowmapData load_shadowmap(const ShadowmapSettings& s) {
+  io::Image img = io::read_exr(s.file);
+  io::Channel* z = img.find("Z");
+  if (!z) throw io::IoError(s.file.string() + ": shadow map has no channel Z");
+  uint64_t nonfinite = 0;
+  for (float& v : z->data) {
+    const bool bad = !std::isfinite(v);
+    nonfinite += bad;
+    if (bad || v > s.far_clip) v = float(10.0 * ISG_BACKGROUND_DEPTH);  // a renderer's background
+  }
+  auto map = make_shadowmap(img.width, img.height, std::move(z->data));
+  map.nonfinite = nonfinite;
+  return map;
 }
 
 std::vector<float> pcss_reference(const ShadowmapInputs& in, const ShadowmapData& map,
@@ -191,6 +201,7 @@ shaders::ShadowmapParams shadowmap_params(const ShadowmapSettings& s, const Shad
   p.tan_x = float(tan_y * map.width / map.height);
   p.light_radius = float(s.light_radius);
   p.min_depth = float(std::min(map.min_depth, 1e30));
+  p.far_clip = float(std::min(s.far_clip, 1e30));
   p.max_radius = float(s.max_radius);
   p.bias = float(s.bias);
   p.slope_max = float(s.slope_max);

@@ -26,6 +26,7 @@ struct ShadowmapSettings {
   std::filesystem::path file;             // the map's EXR (channel Z)
   io::Mat4 world_to_light = io::identity4();
   double yfov_deg = 90.0;
+  double far_clip = 1e30;                 // the map's far plane: depths beyond it are background
   double light_radius = 0.0;              // world units (light_size() of the light)
   int taps = 32;                          // shadows.pcss_taps
   std::string pattern = "stratified";     // shadows.pcss_pattern: stratified | poisson
@@ -44,6 +45,7 @@ struct ShadowmapSettings {
   // cssm (thesis ch. 5)
   int cssm_order = 8;                 // shadows.cssm_order: M, Fourier terms (eq. 5.2, 5.10)
   std::string cssm_filter = "sat";    // shadows.cssm_filter: sat | mipmap (§5.3.1)
+  int cssm_max_basis = 1024;          // shadows.cssm_max_basis: basis images' largest side
   double cssm_a = 30.0, cssm_b = 100.0;  // shadows.cssm_sharpen_a/b: eq. 5.9
   // Camera (depth -> position; facing test): focal length in pixels, eye, world-to-camera
   // rotation. Without a camera, P is required and no facing test is made.
@@ -73,8 +75,12 @@ struct ShadowmapData {
   int width = 0, height = 0;
   std::vector<float> z;
   double min_depth = 1e30;
+  uint64_t nonfinite = 0;  // NaN/Inf texels load_shadowmap read as background
 };
-ShadowmapData load_shadowmap(const std::filesystem::path& file);
+// The map of `s.file`; texels beyond `s.far_clip` become background, as in a map the renderer
+// clipped at its far plane (a backdrop 1e6 away must not set the SAT methods' depth range), and
+// so do NaN/Inf texels (counted: one would poison every sum of a summed-area table).
+ShadowmapData load_shadowmap(const ShadowmapSettings& s);
 ShadowmapData make_shadowmap(int width, int height, std::vector<float> z);
 
 // The per-pixel inputs: position (3 planes) or depth; fg; the hard shadow kept outside the
