@@ -16,10 +16,14 @@ vec3 sm_position(uint i) {
 }
 
 // Light space: (u, v) in map texels (texel centres at k + 0.5, row 0 at the top), planar depth.
+// Relative to the light first: P − light is exact in float while the two are within a factor 2
+// (Sterbenz), so a scene 1e5 from the origin loses nothing to cancellation; l03, l13, l23 are
+// the translation left after it (the light's position rounded to float, in double on the host).
 vec3 sm_project(vec3 P) {
-  float x = p.l00 * P.x + p.l01 * P.y + p.l02 * P.z + p.l03;
-  float y = p.l10 * P.x + p.l11 * P.y + p.l12 * P.z + p.l13;
-  float z = -(p.l20 * P.x + p.l21 * P.y + p.l22 * P.z + p.l23);
+  vec3 d = P - vec3(p.light_x, p.light_y, p.light_z);
+  float x = p.l00 * d.x + p.l01 * d.y + p.l02 * d.z + p.l03;
+  float y = p.l10 * d.x + p.l11 * d.y + p.l12 * d.z + p.l13;
+  float z = -(p.l20 * d.x + p.l21 * d.y + p.l22 * d.z + p.l23);
   if (z <= 1e-6) return vec3(-1.0, -1.0, -1.0);
   return vec3((x / (z * p.tan_x) * 0.5 + 0.5) * float(p.map_w),
               (0.5 - y / (z * p.tan_y) * 0.5) * float(p.map_h), z);

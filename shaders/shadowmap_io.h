@@ -15,7 +15,8 @@ struct ShadowmapParams {
   // Image and map sizes; geometry source: position (3 planes) or depth + the camera below.
   uint width, height, map_w, map_h;
   uint has_position, taps, rotate, has_camera;
-  // Light view: world_to_light rows 0-2 (row-major 3x4); tan of the half fields of view.
+  // Light view: world_to_light rows 0-2 (row-major 3x4) applied to P − light (the light's
+  // centre below), so the translation column is what is left of it; tan of the half fields of view.
   float l00, l01, l02, l03, l10, l11, l12, l13, l20, l21, l22, l23;
   float tan_x, tan_y;
   // Light radius (world), nearest blocker depth in the map (bounds the blocker search).

@@ -67,7 +67,7 @@ Stats execute(gpu::Context& ctx, const plan::Plan& plan, const io::Roles& roles,
     auto map = effects::load_shadowmap(s);
     if (map.nonfinite > 0)
       st.warnings.insert(s.file.string() + ": " + std::to_string(map.nonfinite) +
-                         " NaN/Inf depths, read as background (no occluder)");
+                         " NaN/Inf depths, each replaced by its farthest finite neighbour");
     if (uint64_t(map.z.size()) * 4 != mb.size())
       throw io::IoError(s.file.string() + ": shadow map is " + std::to_string(map.width) + "x" +
                         std::to_string(map.height) + ", not the scene file's size");

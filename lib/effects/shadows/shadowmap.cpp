@@ -116,15 +116,46 @@ ShadowmapData make_shadowmap(int width, int height, std::vector<float> z) {
 
 ShadowmapData load_shadowmap(const ShadowmapSettings& s) {
   io::Image img = io::read_exr(s.file);
-  io::Channel* z = img.find("Z");
-  if (!z) throw io::IoError(s.file.string() + ": shadow map has no channel Z");
-  uint64_t nonfinite = 0;
-  for (float& v : z->data) {
-    const bool bad = !std::isfinite(v);
-    nonfinite += bad;
-    if (bad || v > s.far_clip) v = float(10.0 * ISG_BACKGROUND_DEPTH);  // a renderer's background
+  io::Channel* zc = img.find("Z");
+  if (!zc) throw io::IoError(s.file.string() + ": shadow map has no channel Z");
+  auto& z = zc->data;
+  const int W = img.width, H = img.height;
+  const float background = float(10.0 * ISG_BACKGROUND_DEPTH);  // a renderer's background
+  std::vector<size_t> bad;
+  for (size_t i = 0; i < z.size(); ++i) {
+    if (!std::isfinite(z[i])) bad.push_back(i);
+    else if (z[i] > s.far_clip) z[i] = background;
   }
-  auto map = make_shadowmap(img.width, img.height, std::move(z->data));
+  // NaN/Inf texels take the farthest depth among their finite 8-neighbours, ring by ring inwards
+  // for blocks of them: a plausible surface, where background would be a hole in a receiver that
+  // the variance methods see as light bleeding through it (and a NaN would poison every sum of a
+  // summed-area table). The farthest rather than the nearest, so a repair never adds a blocker.
+  const uint64_t nonfinite = bad.size();
+  while (!bad.empty()) {
+    std::vector<std::pair<size_t, float>> fill;
+    std::vector<size_t> left;
+    for (size_t i : bad) {
+      const int x = int(i % size_t(W)), y = int(i / size_t(W));
+      float best = -1.0f;
+      for (int dy = -1; dy <= 1; ++dy)
+        for (int dx = -1; dx <= 1; ++dx) {
+          const int u = x + dx, v = y + dy;
+          if ((dx || dy) && u >= 0 && v >= 0 && u < W && v < H) {
+            const float n = z[size_t(v) * size_t(W) + size_t(u)];
+            if (std::isfinite(n)) best = std::max(best, n);
+          }
+        }
+      if (best >= 0.0f) fill.push_back({i, best});
+      else left.push_back(i);
+    }
+    if (fill.empty()) {  // nothing finite reaches them: no surface at all
+      for (size_t i : left) z[i] = background;
+      break;
+    }
+    for (const auto& [i, v] : fill) z[i] = v;
+    bad = std::move(left);
+  }
+  auto map = make_shadowmap(W, H, std::move(z));
   map.nonfinite = nonfinite;
   return map;
 }
@@ -195,7 +226,18 @@ shaders::ShadowmapParams shadowmap_params(const ShadowmapSettings& s, const Shad
   const auto& m = s.world_to_light;
   float* L[12] = {&p.l00, &p.l01, &p.l02, &p.l03, &p.l10, &p.l11,
                   &p.l12, &p.l13, &p.l20, &p.l21, &p.l22, &p.l23};
-  for (int k = 0; k < 12; ++k) *L[k] = float(m[size_t(k)]);
+  // The shaders project P − light (exact in float near the light, however far from the origin);
+  // the light's centre is rounded to float, and the translation column takes up what that moved.
+  const io::Mat4 inv = io::inverse(s.world_to_light);
+  p.light_x = float(inv[3]);
+  p.light_y = float(inv[7]);
+  p.light_z = float(inv[11]);
+  const double e[3] = {double(p.light_x), double(p.light_y), double(p.light_z)};
+  for (int r = 0; r < 3; ++r) {
+    for (int k = 0; k < 3; ++k) *L[r * 4 + k] = float(m[size_t(r * 4 + k)]);
+    *L[r * 4 + 3] = float(m[size_t(r * 4)] * e[0] + m[size_t(r * 4 + 1)] * e[1] +
+                          m[size_t(r * 4 + 2)] * e[2] + m[size_t(r * 4 + 3)]);
+  }
   const double tan_y = std::tan(s.yfov_deg * kPi / 360.0);
   p.tan_y = float(tan_y);
   p.tan_x = float(tan_y * map.width / map.height);
@@ -207,12 +249,6 @@ shaders::ShadowmapParams shadowmap_params(const ShadowmapSettings& s, const Shad
   p.slope_max = float(s.slope_max);
   p.spread_bias = float(s.spread_bias);
   p.has_camera = s.has_camera ? 1u : 0u;
-  {
-    const io::Mat4 inv = io::inverse(s.world_to_light);
-    p.light_x = float(inv[3]);
-    p.light_y = float(inv[7]);
-    p.light_z = float(inv[11]);
-  }
   p.f_px = float(s.f_px);
   p.cx = float(s.window.cx(int(w)));
   p.cy = float(s.window.cy(int(h)));

@@ -75,11 +75,11 @@ struct ShadowmapData {
   int width = 0, height = 0;
   std::vector<float> z;
   double min_depth = 1e30;
-  uint64_t nonfinite = 0;  // NaN/Inf texels load_shadowmap read as background
+  uint64_t nonfinite = 0;  // NaN/Inf texels load_shadowmap repaired
 };
 // The map of `s.file`; texels beyond `s.far_clip` become background, as in a map the renderer
-// clipped at its far plane (a backdrop 1e6 away must not set the SAT methods' depth range), and
-// so do NaN/Inf texels (counted: one would poison every sum of a summed-area table).
+// clipped at its far plane (a backdrop 1e6 away must not set the SAT methods' depth range).
+// NaN/Inf texels are repaired with their farthest finite neighbour (counted in `nonfinite`).
 ShadowmapData load_shadowmap(const ShadowmapSettings& s);
 ShadowmapData make_shadowmap(int width, int height, std::vector<float> z);
 
