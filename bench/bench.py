@@ -20,7 +20,7 @@
 4. bench/scaling.py    -> docs/benchmark/scaling.md (pixels, samples, map size, kernel radius)
 
 --from-json rewrites every page from bench/out/*.json without running anything."""
-import argparse, math, os, platform, re, subprocess, sys
+import argparse, json, math, os, platform, re, subprocess, sys
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 from common import (DOCS, HERE, PAGES, SHARED_CASES, Tools, compare, exr_attribute, load, run_isg,
@@ -51,7 +51,6 @@ def shared_cases():
         tj = os.path.join(d, "ref", "drt", "timings.json")
         if not os.path.exists(tj):
             continue
-        import json
         drt = json.load(open(tj))
         readme = open(os.path.join(d, "README.md")).read() if os.path.exists(os.path.join(d, "README.md")) else ""
         if os.path.exists(os.path.join(d, "ref", "softshadow_key.exr")):
