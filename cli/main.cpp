@@ -164,6 +164,7 @@ isg::gpu::Context make_context(const RunArgs& a) {
   copt.device = a.device;
   copt.require_gpu = a.require_gpu;
   copt.validation = a.validation;
+  copt.pipeline_cache = isg::gpu::default_pipeline_cache();
   copt.on_message = [](const std::string& m) { std::cerr << "isg: vulkan: " << m << "\n"; };
   return isg::gpu::Context(copt);
 }

@@ -1,5 +1,11 @@
+#include <unistd.h>
+
 #include <algorithm>
+#include <cstdio>
+#include <cstdlib>
 #include <cstring>
+#include <filesystem>
+#include <fstream>
 
 #include "gpu/gpu.h"
 
@@ -233,6 +239,7 @@ Context::Context(const ContextOptions& opt) : user_callback_(opt.on_message) {
     VkPhysicalDeviceProperties p{};
     vkGetPhysicalDeviceProperties(physical_, &p);
     timestamp_period_ns_ = p.limits.timestampPeriod;
+    open_pipeline_cache(opt.pipeline_cache);
     if (debug_utils_) {
       set_name_ = reinterpret_cast<PFN_vkSetDebugUtilsObjectNameEXT>(
           vkGetInstanceProcAddr(instance_, "vkSetDebugUtilsObjectNameEXT"));
@@ -273,9 +280,80 @@ void Context::free_memory(VkDeviceMemory memory) {
   vkFreeMemory(device_, memory, nullptr);
 }
 
+std::string default_pipeline_cache() {
+  if (const char* e = std::getenv("ISG_PIPELINE_CACHE")) return std::string(e) == "off" ? "" : e;
+  if (const char* x = std::getenv("XDG_CACHE_HOME"); x && *x) return std::string(x) + "/isg";
+  if (const char* h = std::getenv("HOME"); h && *h) return std::string(h) + "/.cache/isg";
+  return "";
+}
+
+// The driver checks the header (vendor, device, pipelineCacheUUID) and starts empty on a
+// mismatch; the file name carries them too so that several devices keep their own caches.
+void Context::open_pipeline_cache(const std::string& folder) {
+  std::vector<char> data;
+  if (!folder.empty()) {
+    VkPhysicalDeviceProperties p{};
+    vkGetPhysicalDeviceProperties(physical_, &p);
+    char uuid[2 * VK_UUID_SIZE + 1] = {};
+    for (uint32_t i = 0; i < VK_UUID_SIZE; ++i) std::snprintf(uuid + 2 * i, 3, "%02x", p.pipelineCacheUUID[i]);
+    cache_file_ = folder + "/pipelines-" + std::to_string(p.vendorID) + "-" +
+                  std::to_string(p.deviceID) + "-" + std::to_string(p.driverVersion) + "-" + uuid + ".bin";
+    std::error_code ec;
+    const auto size = std::filesystem::file_size(cache_file_, ec);
+    std::ifstream in(cache_file_, std::ios::binary);
+    if (!ec && in && size < (uint64_t(1) << 30)) {
+      data.resize(size);
+      if (!in.read(data.data(), std::streamsize(size))) data.clear();
+    }
+    cache_loaded_bytes_ = data.size();
+  }
+  cache_loaded_ = data;
+  VkPipelineCacheCreateInfo ci{VK_STRUCTURE_TYPE_PIPELINE_CACHE_CREATE_INFO};
+  ci.initialDataSize = data.size();
+  ci.pInitialData = data.empty() ? nullptr : data.data();
+  if (vkCreatePipelineCache(device_, &ci, nullptr, &pipeline_cache_) != VK_SUCCESS) {
+    // A damaged file is no reason to fail a run: start empty and overwrite it on exit.
+    ci.initialDataSize = 0;
+    ci.pInitialData = nullptr;
+    cache_loaded_bytes_ = 0;
+    cache_loaded_.clear();
+    check(vkCreatePipelineCache(device_, &ci, nullptr, &pipeline_cache_), "vkCreatePipelineCache");
+  }
+}
+
+// Written to a temporary file and renamed, so concurrent processes (a farm node running
+// several frames) never read a half-written cache; failures only cost the next run a compile.
+void Context::save_pipeline_cache() {
+  if (!pipeline_cache_ || cache_file_.empty()) return;
+  size_t size = 0;
+  if (vkGetPipelineCacheData(device_, pipeline_cache_, &size, nullptr) != VK_SUCCESS || size == 0) return;
+  std::vector<char> data(size);
+  if (vkGetPipelineCacheData(device_, pipeline_cache_, &size, data.data()) != VK_SUCCESS) return;
+  data.resize(size);
+  if (data == cache_loaded_) return;  // nothing new was compiled
+  std::error_code ec;
+  const std::filesystem::path file(cache_file_);
+  std::filesystem::create_directories(file.parent_path(), ec);
+  const auto tmp = file.string() + ".tmp" + std::to_string(::getpid());
+  {
+    std::ofstream out(tmp, std::ios::binary | std::ios::trunc);
+    if (!out) return;
+    out.write(data.data(), std::streamsize(data.size()));
+    if (!out) {
+      std::filesystem::remove(tmp, ec);
+      return;
+    }
+  }
+  std::filesystem::rename(tmp, file, ec);
+  if (ec) std::filesystem::remove(tmp, ec);
+}
+
 void Context::release() {
   if (device_) {
     vkDeviceWaitIdle(device_);
+    save_pipeline_cache();
+    if (pipeline_cache_) vkDestroyPipelineCache(device_, pipeline_cache_, nullptr);
+    pipeline_cache_ = VK_NULL_HANDLE;
     if (cmd_pool_) vkDestroyCommandPool(device_, cmd_pool_, nullptr);
     vkDestroyDevice(device_, nullptr);
   }

@@ -43,7 +43,15 @@ struct ContextOptions {
   // Called for every validation/debug message (severity >= warning). The context counts
   // them too: tests fail on any.
   std::function<void(const std::string&)> on_message;
+  // Folder of the persistent pipeline cache (one file per device, driver and cache UUID), so a
+  // pipeline is compiled once per machine rather than once per process. Empty: no cache file
+  // ($ISG_PIPELINE_CACHE, else $XDG_CACHE_HOME/isg, else ~/.cache/isg: default_pipeline_cache()).
+  std::string pipeline_cache;
 };
+
+// The pipeline cache folder a user gets by default; "" when $ISG_PIPELINE_CACHE is "off" or no
+// home folder is known.
+std::string default_pipeline_cache();
 
 // Lists physical devices without creating a logical device.
 std::vector<DeviceInfo> list_devices();
@@ -208,6 +216,10 @@ class Context {
   VkPhysicalDevice physical() const { return physical_; }
   VkQueue queue() const { return queue_; }
   VkCommandPool command_pool() const { return cmd_pool_; }
+  VkPipelineCache pipeline_cache() const { return pipeline_cache_; }
+  // The cache file, and how many bytes it held when the context started ("" / 0: none).
+  const std::string& pipeline_cache_file() const { return cache_file_; }
+  size_t pipeline_cache_loaded_bytes() const { return cache_loaded_bytes_; }
   uint32_t memory_type(uint32_t type_bits, VkMemoryPropertyFlags props) const;
   double timestamp_period_ns() const { return timestamp_period_ns_; }
   bool timestamps() const { return info_.timestamps; }
@@ -243,6 +255,12 @@ class Context {
   VkQueue queue_ = VK_NULL_HANDLE;
   uint32_t queue_family_ = 0;
   VkCommandPool cmd_pool_ = VK_NULL_HANDLE;
+  VkPipelineCache pipeline_cache_ = VK_NULL_HANDLE;
+  std::string cache_file_;
+  size_t cache_loaded_bytes_ = 0;
+  std::vector<char> cache_loaded_;  // the file as read: unchanged data is not written back
+  void open_pipeline_cache(const std::string& folder);
+  void save_pipeline_cache();
   DeviceInfo info_;
   double timestamp_period_ns_ = 1.0;
   bool debug_utils_ = false;

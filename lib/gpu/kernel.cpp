@@ -48,7 +48,7 @@ Kernel::Kernel(Context& ctx, std::string name, std::span<const uint32_t> spirv,
     ci.stage.module = module_;
     ci.stage.pName = "main";
     ci.layout = layout_;
-    check(vkCreateComputePipelines(dev, VK_NULL_HANDLE, 1, &ci, nullptr, &pipeline_),
+    check(vkCreateComputePipelines(dev, ctx.pipeline_cache(), 1, &ci, nullptr, &pipeline_),
           "vkCreateComputePipelines");
   } catch (...) {
     cleanup();

@@ -1,5 +1,9 @@
 #include <gtest/gtest.h>
 
+#include <unistd.h>
+
+#include <filesystem>
+#include <fstream>
 #include <numeric>
 
 #include "effects/shadows/hard.h"
@@ -101,4 +105,40 @@ TEST_F(GpuTest, HardShadowPassEqualsReferenceAndIsTimed) {
   if (ctx().timestamps()) {
     EXPECT_GT(t[0].ms, 0.0);
   }
+}
+
+// The persistent pipeline cache: written when a context ends, read by the next one; a damaged
+// file neither fails a run nor survives it.
+TEST(PipelineCache, PersistsAcrossContextsAndSurvivesDamage) {
+  namespace fs = std::filesystem;
+  const fs::path dir = fs::temp_directory_path() / ("isg-pipeline-cache-" + std::to_string(::getpid()));
+  fs::remove_all(dir);
+  std::string file;
+  {
+    gpu::ContextOptions o;
+    o.pipeline_cache = dir.string();
+    gpu::Context c(o);
+    EXPECT_EQ(c.pipeline_cache_loaded_bytes(), 0u);
+    isg::effects::ShadowsHardPass pass(c);  // compiles one pipeline through the cache
+    file = c.pipeline_cache_file();
+    EXPECT_EQ(fs::path(file).parent_path(), dir);
+  }
+  ASSERT_TRUE(fs::exists(file));
+  const auto size = fs::file_size(file);
+  EXPECT_GT(size, 16u);  // at least the header the driver checks
+  {
+    gpu::ContextOptions o;
+    o.pipeline_cache = dir.string();
+    gpu::Context c(o);
+    EXPECT_EQ(c.pipeline_cache_loaded_bytes(), size);
+  }
+  {
+    std::ofstream(file, std::ios::binary | std::ios::trunc) << "not a pipeline cache";
+    gpu::ContextOptions o;
+    o.pipeline_cache = dir.string();
+    gpu::Context c(o);
+    isg::effects::ShadowsHardPass pass(c);
+  }
+  EXPECT_NE(fs::file_size(file), std::string("not a pipeline cache").size());
+  fs::remove_all(dir);
 }
