@@ -4,6 +4,11 @@
 ISG_IO_BEGIN
 // One workgroup is one tile: a tile with no glossy pixel takes the cheap path (refl copied).
 #define REFL_TILE 16
+// Pass reflections.pack: workgroup width (one row of pixels).
+#define REFL_PACK_LOCAL 64
+// refl.pack.color's w for a pixel with nothing to gather (background or refl.weight 0); hits
+// keep refl.dist > 0, misses 0.
+#define REFL_NO_REFLECTION -1.0
 // Modes of pass reflections.isg.
 #define REFL_MODE_ISG 0u   // parameter search (eq. 4, 10-12) then gather (eq. 13, 14)
 #define REFL_MODE_BLUR 1u  // the naive alternative: a constant-width disk blur of refl
@@ -34,9 +39,12 @@ struct ReflIsgPush {
   float inv_sigma;     // 1 / σ of eq. 10
   float inv_scene_radius;
   float f_px;          // focal length in pixels: (height / 2) / tan(yfov / 2)
-  float eye_x;         // camera position, world
+  float eye_x;         // camera position, world: the float nearest the double (eye_hi) ...
   float eye_y;
   float eye_z;
+  float eye_lo_x;      // ... and the remainder (eye − eye_hi); reflections.pack only
+  float eye_lo_y;
+  float eye_lo_z;
   float r00;           // world-to-camera rotation, row-major (camera looks down −Z, +Y up)
   float r01;
   float r02;

@@ -265,6 +265,13 @@ Plan make_plan(const io::Roles& roles, const io::Scene& scene, const params::Par
         need("roughness", 1, true);
         reads.push_back("roughness");
       }
+      // reflections.pack: the taps' data, two 16-byte texels a pixel (reflections.isg's input).
+      need("refl.pack.geo", 4, false);
+      need("refl.pack.color", 4, false);
+      plan.passes.push_back({"reflections.pack", "reflections.pack", reads,
+                             {"refl.pack.geo", "refl.pack.color"}, ""});
+      reads = {"refl.pack.geo", "refl.pack.color"};
+      if (roles.has("roughness") && !plan.refl->roughness_override) reads.push_back("roughness");
       need("refl.glossy", 3, false);
       const uint64_t tiles = uint64_t((width + 15) / 16) * uint64_t((height + 15) / 16);
       plan.resources.push_back({"refl.tiles", 1, false, tiles * sizeof(float)});

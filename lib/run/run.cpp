@@ -114,14 +114,19 @@ Stats execute(gpu::Context& ctx, const plan::Plan& plan, const io::Roles& roles,
       const auto& X = buf.at(p.reads.at(2));
       term->record(seq, buf.at("composite"), buf.at(p.reads.at(1)), X, buf.at(p.reads.at(3)),
                    uint32_t(X.size() / (n * sizeof(float))), buf.at("fg"), w, h, p.label);
+    } else if (p.name == "reflections.pack") {
+      // Recorded by reflections.isg, which owns both kernels.
     } else if (p.name == "reflections.isg") {
       if (!refl) refl = std::make_unique<effects::ReflectionsPass>(ctx, plan.refl.value());
       const bool has_p = buf.count("position") != 0;
       auto rough = buf.find("roughness");
-      refl->record(seq, buf.at("refl"), buf.at("refl.dist"), buf.at("refl.weight"),
-                   buf.at("normal"), buf.at(has_p ? "position" : "depth"), has_p,
-                   rough == buf.end() ? nullptr : &rough->second, buf.at("fg"),
-                   buf.at("refl.glossy"), buf.at("refl.tiles"), w, h, p.label);
+      refl->record(seq,
+                   {buf.at("refl"), buf.at("refl.dist"), buf.at("refl.weight"), buf.at("normal"),
+                    buf.at(has_p ? "position" : "depth"), has_p,
+                    rough == buf.end() ? nullptr : &rough->second, buf.at("fg"),
+                    buf.at("refl.pack.geo"), buf.at("refl.pack.color"), buf.at("refl.glossy"),
+                    buf.at("refl.tiles")},
+                   w, h, p.label);
     } else if (p.name.starts_with("dof.")) {
       if (!dof) dof = std::make_unique<effects::DofPass>(ctx, plan.dof.value());
       if (p.name == "dof.coc") {

@@ -7,6 +7,7 @@
 #include "effects/sampling.h"
 #include "effects/view.h"
 #include "isg/shaders/reflections_isg.spv.h"
+#include "isg/shaders/reflections_pack.spv.h"
 #include "reflections_isg_io.h"
 
 namespace isg::effects {
@@ -60,19 +61,12 @@ struct Ctx {
     double z = std::max(-c[2], 1e-6);
     return {0.5 * in.w + s.f_px * c[0] / z, 0.5 * in.h - s.f_px * c[1] / z};
   }
-  void taps(V2 q, size_t t[4], double bw[4]) const {
-    double x = q[0] - 0.5, y = q[1] - 0.5;
-    double x0 = std::floor(x), y0 = std::floor(y), fx = x - x0, fy = y - y0;
-    int xa = std::clamp(int(x0), 0, in.w - 1), xb = std::clamp(int(x0) + 1, 0, in.w - 1);
-    int ya = std::clamp(int(y0), 0, in.h - 1), yb = std::clamp(int(y0) + 1, 0, in.h - 1);
-    t[0] = size_t(ya) * in.w + xa;
-    t[1] = size_t(ya) * in.w + xb;
-    t[2] = size_t(yb) * in.w + xa;
-    t[3] = size_t(yb) * in.w + xb;
-    bw[0] = (1 - fx) * (1 - fy);
-    bw[1] = fx * (1 - fy);
-    bw[2] = (1 - fx) * fy;
-    bw[3] = fx * fy;
+  // Point taps (issue 18): the pixel holding q, clamped to the image. With the lattice rotated
+  // per pixel, bilinear taps bought no error against Cycles and cost four texels a sample.
+  size_t tap(V2 q) const {
+    const int x = std::clamp(int(std::floor(q[0])), 0, in.w - 1);
+    const int y = std::clamp(int(std::floor(q[1])), 0, in.h - 1);
+    return size_t(y) * in.w + x;
   }
   // Eq. 10-12.
   double range(size_t j, V3 P0, V3 N0) const {
@@ -93,15 +87,11 @@ struct Ctx {
       V2 c = concentric(k, s.grid_gather);
       V2 q = {p0[0] + s.blur_radius * (ca * c[0] - sa * c[1]),
               p0[1] + s.blur_radius * (sa * c[0] + ca * c[1])};
-      size_t t[4];
-      double bw[4];
-      taps(q, t, bw);
-      for (int j = 0; j < 4; ++j) {
-        double w = has_refl(t[j]) ? bw[j] : 0.0;
-        V3 r = rgb(in.refl, t[j]);
-        for (int c3 = 0; c3 < 3; ++c3) sum[c3] += w * r[c3];
-        ws += w;
-      }
+      const size_t t = tap(q);
+      double w = has_refl(t) ? 1.0 : 0.0;
+      V3 r = rgb(in.refl, t);
+      for (int c3 = 0; c3 < 3; ++c3) sum[c3] += w * r[c3];
+      ws += w;
     }
     return {sum[0] / ws, sum[1] / ws, sum[2] / ws};
   }
@@ -141,19 +131,15 @@ struct Ctx {
     for (int k = 0; k < s.grid_search * s.grid_search; ++k) {
       V2 u;
       V2 q = offset(k, s.grid_search, R_p, u);
-      size_t t[4];
-      double bw[4];
-      taps(q, t, bw);
-      for (int j = 0; j < 4; ++j) {
-        if (!has_refl(t[j])) continue;
-        double dj = in.dist[t[j]];
-        if (dj <= 0 && !s.search_misses) continue;
-        double tj = dj > 0 ? dj / (e + dj) : 1.0;
-        double w = bw[j] * range(t[j], P0, N0);
-        if (s.search_reach) w *= std::clamp(tj * R_full - len2(u) * R_p + 0.5, 0.0, 1.0);
-        st += w * tj;
-        sw += w;
-      }
+      const size_t t = tap(q);
+      if (!has_refl(t)) continue;
+      double dj = in.dist[t];
+      if (dj <= 0 && !s.search_misses) continue;
+      double tj = dj > 0 ? dj / (e + dj) : 1.0;
+      double w = range(t, P0, N0);
+      if (s.search_reach) w *= std::clamp(tj * R_full - len2(u) * R_p + 0.5, 0.0, 1.0);
+      st += w * tj;
+      sw += w;
     }
     double t_bar = sw > 1e-6 ? st / sw : 1.0;
     // Eq. 13 per reflected direction: a deviation θ lands k·tan θ pixels away.
@@ -180,16 +166,12 @@ struct Ctx {
       V2 q = {p0[0] + (u[0] * maj * d_maj[0] + u[1] * minor * d_min[0]),
               p0[1] + (u[0] * maj * d_maj[1] + u[1] * minor * d_min[1])};
       const double wd = 1.0 / std::cos(th);
-      size_t t[4];
-      double bw[4];
-      taps(q, t, bw);
-      for (int j = 0; j < 4; ++j) {
-        if (!has_refl(t[j])) continue;
-        double w = wd * bw[j] * range(t[j], P0, N0);
-        V3 r = rgb(in.refl, t[j]);
-        for (int c3 = 0; c3 < 3; ++c3) sum[c3] += w * r[c3];
-        ws += w;
-      }
+      const size_t t = tap(q);
+      if (!has_refl(t)) continue;
+      double w = wd * range(t, P0, N0);
+      V3 r = rgb(in.refl, t);
+      for (int c3 = 0; c3 < 3; ++c3) sum[c3] += w * r[c3];
+      ws += w;
     }
     double m = smoothstep(0.25, 0.75, R_s);
     V3 out;
@@ -261,18 +243,39 @@ std::vector<float> reflections_reference(const ReflInputs& in, const ReflSetting
   return out;
 }
 
+namespace {
+// The search lattice then the gather lattice as (x, y, |c|, |c|²): the concentric map evaluated
+// once on the host rather than per tap.
+std::vector<float> sample_table(int grid_search, int grid_gather) {
+  std::vector<float> t;
+  for (int grid : {grid_search, grid_gather}) {
+    for (int k = 0; k < grid * grid; ++k) {
+      const auto c = concentric(k, grid);
+      const double r2 = c[0] * c[0] + c[1] * c[1];
+      t.insert(t.end(), {float(c[0]), float(c[1]), float(std::sqrt(r2)), float(r2)});
+    }
+  }
+  return t;
+}
+}  // namespace
+
 ReflectionsPass::ReflectionsPass(gpu::Context& ctx, const ReflSettings& s)
     : s_(s),
+      pack_(ctx, "reflections.pack", isg_spv_reflections_pack,
+            std::vector<gpu::Slot>(8, gpu::Slot::buffer), sizeof(shaders::ReflIsgPush),
+            REFL_PACK_LOCAL, 1),
       kernel_(ctx, "reflections.isg", isg_spv_reflections_isg,
-              std::vector<gpu::Slot>(9, gpu::Slot::buffer), sizeof(shaders::ReflIsgPush), REFL_TILE,
-              REFL_TILE) {}
+              std::vector<gpu::Slot>(6, gpu::Slot::buffer), sizeof(shaders::ReflIsgPush), REFL_TILE,
+              REFL_TILE) {
+  const auto table = sample_table(s_.grid_search, s_.grid_gather);
+  samples_ = std::make_unique<gpu::Buffer>(ctx, table.size() * sizeof(float), "refl.samples");
+  samples_->upload(std::span<const float>(table));
+}
 
-void ReflectionsPass::record(gpu::Sequence& seq, const gpu::Buffer& refl, const gpu::Buffer& dist,
-                             const gpu::Buffer& weight, const gpu::Buffer& normal,
-                             const gpu::Buffer& geo, bool has_position, const gpu::Buffer* rough,
-                             const gpu::Buffer& fg, const gpu::Buffer& glossy,
-                             const gpu::Buffer& tiles, uint32_t w, uint32_t h,
-                             const std::string& label) {
+ReflectionsPass::~ReflectionsPass() = default;
+
+shaders::ReflIsgPush ReflectionsPass::push(uint32_t w, uint32_t h, bool has_position,
+                                           bool has_rough) const {
   shaders::ReflIsgPush pc{};
   pc.width = w;
   pc.height = h;
@@ -280,7 +283,6 @@ void ReflectionsPass::record(gpu::Sequence& seq, const gpu::Buffer& refl, const 
   pc.origin = s_.window.packed_origin();
   pc.cx = float(s_.window.cx(int(w)));
   pc.cy = float(s_.window.cy(int(h)));
-  const bool has_rough = rough && !s_.roughness_override;
   pc.mode = s_.method == "blur" ? REFL_MODE_BLUR : REFL_MODE_ISG;
   pc.flags = (s_.search_reach ? 1u : 0u) | (s_.anisotropic ? 4u : 0u) |
              (s_.search_misses ? 8u : 0u) | (s_.masking ? 16u : 0u) |
@@ -294,19 +296,35 @@ void ReflectionsPass::record(gpu::Sequence& seq, const gpu::Buffer& refl, const 
   pc.inv_sigma = float(1.0 / s_.sigma);
   pc.inv_scene_radius = float(1.0 / s_.scene_radius);
   pc.f_px = float(s_.f_px);
+  // The eye as a float and its remainder: reflections.pack forms P − eye without losing the
+  // digits a scene far from the origin keeps in double.
   pc.eye_x = float(s_.eye[0]);
   pc.eye_y = float(s_.eye[1]);
   pc.eye_z = float(s_.eye[2]);
+  pc.eye_lo_x = float(s_.eye[0] - double(pc.eye_x));
+  pc.eye_lo_y = float(s_.eye[1] - double(pc.eye_y));
+  pc.eye_lo_z = float(s_.eye[2] - double(pc.eye_z));
   const auto& m = s_.rot;
   pc.r00 = float(m[0]), pc.r01 = float(m[1]), pc.r02 = float(m[2]);
   pc.r10 = float(m[3]), pc.r11 = float(m[4]), pc.r12 = float(m[5]);
   pc.r20 = float(m[6]), pc.r21 = float(m[7]), pc.r22 = float(m[8]);
+  return pc;
+}
+
+void ReflectionsPass::record(gpu::Sequence& seq, const ReflBuffers& b, uint32_t w, uint32_t h,
+                             const std::string& label) {
+  const bool has_rough = b.rough && !s_.roughness_override;
+  const auto pc = push(w, h, b.has_position, has_rough);
+  seq.dispatch(pack_,
+               {gpu::Binding::of(b.refl), gpu::Binding::of(b.dist), gpu::Binding::of(b.weight),
+                gpu::Binding::of(b.normal), gpu::Binding::of(b.geo), gpu::Binding::of(b.fg),
+                gpu::Binding::of(b.pack_geo), gpu::Binding::of(b.pack_color)},
+               pc, w, h, "reflections.pack");
   // Without a roughness channel the slot is bound to refl.dist and never read.
-  const gpu::Buffer& rb = has_rough ? *rough : dist;
+  const gpu::Buffer& rb = has_rough ? *b.rough : b.dist;
   seq.dispatch(kernel_,
-               {gpu::Binding::of(refl), gpu::Binding::of(dist), gpu::Binding::of(weight),
-                gpu::Binding::of(normal), gpu::Binding::of(geo), gpu::Binding::of(rb),
-                gpu::Binding::of(fg), gpu::Binding::of(glossy), gpu::Binding::of(tiles)},
+               {gpu::Binding::of(b.pack_geo), gpu::Binding::of(b.pack_color), gpu::Binding::of(rb),
+                gpu::Binding::of(*samples_), gpu::Binding::of(b.glossy), gpu::Binding::of(b.tiles)},
                pc, w, h, label);
 }
 

@@ -9,11 +9,13 @@
 
 #include <array>
 #include <cstdint>
+#include <memory>
 #include <string>
 #include <vector>
 
 #include "effects/reflections/settings.h"
 #include "gpu/gpu.h"
+#include "reflections_isg_io.h"
 
 namespace isg::effects {
 
@@ -31,21 +33,30 @@ std::vector<float> reflections_reference(const ReflInputs& in, const ReflSetting
 
 uint32_t refl_tiles(uint32_t w, uint32_t h);
 
+// The buffers pass reflections.isg binds. geo: P (has_position) or Z; rough may be null
+// (preset roughness); pack_geo and pack_color (4 planes each) are reflections.pack's products.
+struct ReflBuffers {
+  const gpu::Buffer &refl, &dist, &weight, &normal, &geo;
+  bool has_position;
+  const gpu::Buffer* rough;
+  const gpu::Buffer &fg, &pack_geo, &pack_color, &glossy, &tiles;
+};
+
+// reflections.pack (the taps' data in two 16-byte texels a pixel) then reflections.isg.
 class ReflectionsPass {
  public:
   ReflectionsPass(gpu::Context& ctx, const ReflSettings& s);
-  // geo: P (has_position) or Z; rough may be null (preset roughness).
-  void record(gpu::Sequence& seq, const gpu::Buffer& refl, const gpu::Buffer& dist,
-              const gpu::Buffer& weight, const gpu::Buffer& normal, const gpu::Buffer& geo,
-              bool has_position, const gpu::Buffer* rough, const gpu::Buffer& fg,
-              const gpu::Buffer& glossy, const gpu::Buffer& tiles, uint32_t w, uint32_t h,
+  ~ReflectionsPass();
+  void record(gpu::Sequence& seq, const ReflBuffers& b, uint32_t w, uint32_t h,
               const std::string& label);
   // After submit: the fraction of tiles that took the cheap path.
   static double skipped_fraction(const gpu::Buffer& tiles, uint32_t w, uint32_t h);
 
  private:
+  shaders::ReflIsgPush push(uint32_t w, uint32_t h, bool has_position, bool has_rough) const;
   ReflSettings s_;
-  gpu::Kernel kernel_;
+  gpu::Kernel pack_, kernel_;
+  std::unique_ptr<gpu::Buffer> samples_;  // the lattice table (sample_table)
 };
 
 }  // namespace isg::effects
