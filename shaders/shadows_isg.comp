@@ -6,12 +6,14 @@
 #include "shadows_isg_io.h"
 #include "isg_sampling.h"
 layout(local_size_x = SHADOWS_ISG_TILE, local_size_y = SHADOWS_ISG_TILE) in;
-layout(std430, binding = 0) readonly buffer Shadow { float shadow_in[]; };
+layout(std430, binding = 0) readonly buffer Pack { vec4 pack[]; };  // P − eye, L.shadow (shadows.isg.tiles)
 layout(std430, binding = 1) readonly buffer Occluder { float occluder[]; };
-layout(std430, binding = 2) readonly buffer Geo { float geo[]; };  // P (3 planes) or Z
-layout(std430, binding = 3) readonly buffer Fg { float fg[]; };
-layout(std430, binding = 4) buffer Tiles { uint tiles[]; };
-layout(std430, binding = 5) writeonly buffer Soft { float soft[]; };
+layout(std430, binding = 2) buffer Tiles { uint tiles[]; };
+layout(std430, binding = 3) writeonly buffer Soft { float soft[]; };
+// The search lattice (grid_s² entries) then the gather lattice (grid_g²): concentric-disk
+// points made on the host, (x, y) of each vec2.
+layout(std430, binding = 4) readonly buffer Samples { vec2 samples[]; };
+layout(std430, binding = 5) readonly buffer Shadow { float shadow_in[]; };  // for the background
 layout(push_constant) uniform Push { ShadowsIsgPush pc; };
 
 const float PI = 3.14159265358979;
@@ -19,31 +21,21 @@ shared uint s_rp;     // the tile's largest search radius (float bits)
 shared uint s_reach;  // OR of the flags of the tiles within reach
 shared uint s_dloc;   // the largest occluder distance of the tiles within reach (float bits)
 
-uint npix() { return pc.width * pc.height; }
 mat3 rot() {  // world -> camera; GLSL matrices are column-major
   return mat3(pc.r00, pc.r10, pc.r20, pc.r01, pc.r11, pc.r21, pc.r02, pc.r12, pc.r22);
 }
-vec3 eye() { return vec3(pc.eye_x, pc.eye_y, pc.eye_z); }
-vec3 light() { return vec3(pc.light_x, pc.light_y, pc.light_z); }
-
-vec3 position_at(uint i) {
-  uint n = npix();
-  if ((pc.flags & SHADOWS_ISG_HAS_POSITION) != 0u) return vec3(geo[i], geo[n + i], geo[2u * n + i]);
-  float z = geo[i];
-  // Frame coordinates (a tile adds its origin), so a tile rounds as the whole frame does.
-  float x = float(i % pc.width + (pc.origin & 0xffffu)) + 0.5, y = float(i / pc.width + (pc.origin >> 16)) + 0.5;
-  vec3 c = vec3((x - pc.cx) / pc.f_px * z, -(y - pc.cy) / pc.f_px * z, -z);
-  return transpose(rot()) * c + eye();
-}
+vec3 light() { return vec3(pc.light_x, pc.light_y, pc.light_z); }  // light − eye
+bool foreground(vec4 t) { return t.w > 0.5 * SHADOWS_ISG_BACKGROUND; }
 
 // cos θ_i of the receiver at pixel p (normal from P's screen derivatives, one-sided next to a
 // silhouette), clamped to SHADOWS_ISG_MIN_COS.
 vec3 axis_diff(uvec2 p, vec3 P0, uvec2 e) {
   uvec2 a = p - e, b = p + e;
-  bool ha = p.x >= e.x && p.y >= e.y && fg[a.y * pc.width + a.x] != 0.0;
-  bool hb = b.x < pc.width && b.y < pc.height && fg[b.y * pc.width + b.x] != 0.0;
-  vec3 f = hb ? position_at(b.y * pc.width + b.x) - P0 : vec3(0.0);
-  vec3 g = ha ? P0 - position_at(a.y * pc.width + a.x) : vec3(0.0);
+  vec4 ta = p.x >= e.x && p.y >= e.y ? pack[a.y * pc.width + a.x] : vec4(SHADOWS_ISG_BACKGROUND);
+  vec4 tb = b.x < pc.width && b.y < pc.height ? pack[b.y * pc.width + b.x] : vec4(SHADOWS_ISG_BACKGROUND);
+  bool ha = foreground(ta), hb = foreground(tb);
+  vec3 f = hb ? tb.xyz - P0 : vec3(0.0);
+  vec3 g = ha ? P0 - ta.xyz : vec3(0.0);
   if (ha && hb) {
     float lf = length(f), lg = length(g);
     if (max(lf, lg) < 2.0 * min(lf, lg)) return f + g;
@@ -68,20 +60,12 @@ float across(vec3 dP, vec3 wl) {
   return length(dP - (dot(dP, n) / c) * wl);
 }
 
-// Bilinear taps of q (frame coordinates, pixel centres at +0.5); taps outside the image get
-// weight 0.
-void taps(vec2 q, out uint t[4], out float bw[4]) {
-  vec2 x = q - 0.5;
-  vec2 x0 = floor(x);
-  vec2 f = x - x0;
-  int xa = int(x0.x) - int(pc.origin & 0xffffu), ya = int(x0.y) - int(pc.origin >> 16);
-  float wx[2] = float[2](1.0 - f.x, f.x), wy[2] = float[2](1.0 - f.y, f.y);
-  for (int j = 0; j < 4; ++j) {
-    int xx = xa + (j & 1), yy = ya + (j >> 1);
-    bool in_img = xx >= 0 && yy >= 0 && xx < int(pc.width) && yy < int(pc.height);
-    t[j] = in_img ? uint(yy) * pc.width + uint(xx) : 0u;
-    bw[j] = in_img ? wx[j & 1] * wy[j >> 1] : 0.0;
-  }
+// The pixel holding q (frame coordinates, pixel centres at +0.5), or −1 outside the image: a
+// point tap (issue 18); with the lattice rotated per pixel bilinear taps bought no error.
+int tap(vec2 q) {
+  ivec2 x = ivec2(floor(q)) - ivec2(pc.origin & 0xffffu, pc.origin >> 16);
+  bool in_img = x.x >= 0 && x.y >= 0 && x.x < int(pc.width) && x.y < int(pc.height);
+  return in_img ? x.y * int(pc.width) + x.x : -1;
 }
 // Eq. 6-7 without inShadow: a gaussian of the world distance l (scene_radius units).
 float range_l(float l) {
@@ -107,13 +91,14 @@ void main() {
   barrier();
 
   // The reach of the widest penumbra in the image bounds the tiles to look at.
-  bool fg0 = inside && fg[i] != 0.0;
+  vec4 t0_ = inside ? pack[i] : vec4(SHADOWS_ISG_BACKGROUND);
+  bool fg0 = foreground(t0_);
   vec3 P0 = vec3(0.0);
   float D = 0.0, pix = 1.0, Rp_raw = 0.0;
   vec3 wl = vec3(0.0, 0.0, 1.0);
   if (fg0) {
-    P0 = position_at(i);
-    float z = max(-(rot() * (P0 - eye())).z, 1e-6);
+    P0 = t0_.xyz;
+    float z = max(-(rot() * P0).z, 1e-6);
     D = length(light() - P0);
     wl = (light() - P0) / max(D, 1e-20);
     // World size of a pixel at the receiver (Camera::pixel_size_at), shrunk by cos θ_i: the
@@ -164,28 +149,24 @@ void main() {
     swd = sw * o0;
   }
   uint grid_search = pc.grids & 0xffffu;
+  mat2 Rot = Rp * mat2(ca, sa, -sa, ca);
   for (uint k = 0u; k < grid_search * grid_search; ++k) {
-    vec2 c = isg_concentric(k, grid_search);
-    vec2 q = p0 + Rp * vec2(ca * c.x - sa * c.y, sa * c.x + ca * c.y);
-    uint t[4];
-    float bw[4];
-    taps(q, t, bw);
-    for (int j = 0; j < 4; ++j) {
-      if (bw[j] == 0.0 || fg[t[j]] == 0.0) continue;
-      float st = shadow_in[t[j]], ot = occluder[t[j]];
-      if (!(st < 1.0 && ot > 0.0)) continue;
-      vec3 Pt = position_at(t[j]);
-      float l = length(Pt - P0);
-      float r = range_l(l) * (1.0 - st) * bw[j];
-      l = across(Pt - P0, wl);
-      if ((pc.flags & SHADOWS_ISG_SEARCH_REACH) != 0u) {
-        // PCSS's blocker test in image space: the occluder's own penumbra reaches p_0.
-        float Rt = penumbra(ot, length(light() - Pt));
-        r *= clamp((SHADOWS_ISG_REACH * Rt + pix - l) / pix, 0.0, 1.0);
-      }
-      sw += r;
-      swd += r * ot;
+    int t = tap(p0 + Rot * samples[k]);
+    if (t < 0) continue;
+    vec4 Tt = pack[t];
+    if (!foreground(Tt) || !(Tt.w < 1.0)) continue;
+    float ot = occluder[t];
+    if (!(ot > 0.0)) continue;
+    vec3 dP = Tt.xyz - P0;
+    float r = range_l(length(dP)) * (1.0 - Tt.w);
+    float l = across(dP, wl);
+    if ((pc.flags & SHADOWS_ISG_SEARCH_REACH) != 0u) {
+      // PCSS's blocker test in image space: the occluder's own penumbra reaches p_0.
+      float Rt = penumbra(ot, length(light() - Tt.xyz));
+      r *= clamp((SHADOWS_ISG_REACH * Rt + pix - l) / pix, 0.0, 1.0);
     }
+    sw += r;
+    swd += r * ot;
   }
   if (!(sw > 0.0)) {  // no occluder within reach: the hard shadow stands
     soft[i] = s0;
@@ -204,19 +185,26 @@ void main() {
   // stretched by 1 / cos θ_i; on grazing receivers the screen disk, which reaches far along the
   // surface, is cut back to it. The gaussian of eq. 6 as range function.
   float sum = s0, ws = 1.0;
+  // Bilinear taps here: the shadow bits are a binary signal, and a point tap of them is
+  // aliased (isg-synth contact's error rose 40 % with point taps; the search, averaging
+  // occluder distances, loses nothing to them).
   uint grid_gather = pc.grids >> 16;
+  mat2 Rog = Rg * mat2(ca, sa, -sa, ca);
+  ivec2 org = ivec2(pc.origin & 0xffffu, pc.origin >> 16);
   for (uint k = 0u; k < grid_gather * grid_gather; ++k) {
-    vec2 c = isg_concentric(k, grid_gather);
-    vec2 q = p0 + Rg * vec2(ca * c.x - sa * c.y, sa * c.x + ca * c.y);
-    uint t[4];
-    float bw[4];
-    taps(q, t, bw);
+    vec2 x = p0 + Rog * samples[grid_search * grid_search + k] - 0.5;
+    vec2 x0 = floor(x), f = x - x0;
+    ivec2 xa = ivec2(x0) - org;
     for (int j = 0; j < 4; ++j) {
-      if (bw[j] == 0.0 || fg[t[j]] == 0.0) continue;
-      vec3 dP = position_at(t[j]) - P0;
+      ivec2 xx = xa + ivec2(j & 1, j >> 1);
+      if (xx.x < 0 || xx.y < 0 || xx.x >= int(pc.width) || xx.y >= int(pc.height)) continue;
+      vec4 Tt = pack[xx.y * int(pc.width) + xx.x];
+      if (!foreground(Tt)) continue;
+      vec3 dP = Tt.xyz - P0;
       float l = across(dP, wl);
-      float r = range_l(length(dP)) * clamp((Rs + 0.5 * pix - l) / pix, 0.0, 1.0) * bw[j];
-      sum += r * shadow_in[t[j]];
+      float bw = ((j & 1) != 0 ? f.x : 1.0 - f.x) * ((j >> 1) != 0 ? f.y : 1.0 - f.y);
+      float r = range_l(length(dP)) * clamp((Rs + 0.5 * pix - l) / pix, 0.0, 1.0) * bw;
+      sum += r * Tt.w;
       ws += r;
     }
   }

@@ -42,12 +42,9 @@ struct ShadowsIsgPush {
   float inv_scene_radius;
   float max_radius;    // largest search and gather radius, pixels
   float f_px;          // focal length in pixels: (height / 2) / tan(yfov / 2)
-  float light_x;       // the light's centre, world
+  float light_x;       // the light's centre relative to the camera (light − eye, from double)
   float light_y;
   float light_z;
-  float eye_x;         // camera position, world
-  float eye_y;
-  float eye_z;
   float r00;           // world-to-camera rotation, row-major (camera looks down −Z, +Y up)
   float r01;
   float r02;
@@ -61,6 +58,33 @@ struct ShadowsIsgPush {
   float light_ny;
   float light_nz;
   float cy;
+};
+// Pass shadows.isg.tiles, which also packs what every tap of shadows.isg reads into one
+// 16-byte texel a pixel, L.isg.pack = (P − eye, L.shadow or SHADOWS_ISG_BACKGROUND).
+#define SHADOWS_ISG_BACKGROUND -1e30  // below any L.shadow a renderer writes
+struct ShadowsIsgTilesPush {
+  uint width;
+  uint height;
+  uint origin;         // as ShadowsIsgPush
+  uint flags;          // SHADOWS_ISG_HAS_POSITION
+  float cx;            // principal point, frame pixels
+  float cy;
+  float f_px;
+  float eye_x;         // camera position, world: the float nearest the double (eye_hi) ...
+  float eye_y;
+  float eye_z;
+  float eye_lo_x;      // ... and the remainder (eye − eye_hi)
+  float eye_lo_y;
+  float eye_lo_z;
+  float r00;           // world-to-camera rotation, row-major
+  float r01;
+  float r02;
+  float r10;
+  float r11;
+  float r12;
+  float r20;
+  float r21;
+  float r22;
 };
 ISG_IO_END
 #endif

@@ -2,15 +2,20 @@
 // Pass shadows.isg.tiles (method isg, step 1): per 16×16 tile, whether its foreground holds lit
 // and shadowed pixels, its largest occluder distance and the image's, d_max (which bounds every
 // penumbra, eq. 8, so shadows.isg can size its search and skip tiles with no boundary within
-// reach). lib/effects/shadows/isg.cpp mirrors it in double.
+// reach). It also packs each pixel's tap data, L.isg.pack = (P − eye, L.shadow or background),
+// so a tap of shadows.isg is one 16-byte load (issue 18); positions are relative to the camera
+// (shaders/isg_view.h). lib/effects/shadows/isg.cpp mirrors it in double.
 #extension GL_GOOGLE_include_directive : require
 #include "shadows_isg_io.h"
+#include "isg_view.h"
 layout(local_size_x = SHADOWS_ISG_TILE, local_size_y = SHADOWS_ISG_TILE) in;
 layout(std430, binding = 0) readonly buffer Shadow { float shadow_in[]; };
 layout(std430, binding = 1) readonly buffer Occluder { float occluder[]; };
-layout(std430, binding = 2) readonly buffer Fg { float fg[]; };
-layout(std430, binding = 3) buffer Tiles { uint tiles[]; };
-layout(push_constant) uniform Push { ShadowsIsgPush pc; };
+layout(std430, binding = 2) readonly buffer Geo { float geo[]; };  // P (3 planes) or Z
+layout(std430, binding = 3) readonly buffer Fg { float fg[]; };
+layout(std430, binding = 4) buffer Tiles { uint tiles[]; };
+layout(std430, binding = 5) writeonly buffer Pack { vec4 pack[]; };
+layout(push_constant) uniform Push { ShadowsIsgTilesPush pc; };
 
 shared uint s_flags;
 shared uint s_dmax;
@@ -23,14 +28,26 @@ void main() {
   barrier();
   uvec2 p = gl_GlobalInvocationID.xy;
   if (p.x < pc.width && p.y < pc.height) {
-    uint i = p.y * pc.width + p.x;
+    uint n = pc.width * pc.height, i = p.y * pc.width + p.x;
+    float s = shadow_in[i];
+    vec3 rel = vec3(0.0);
     if (fg[i] != 0.0) {
-      float s = shadow_in[i];
       uint f = (s > 0.0 ? SHADOWS_ISG_FLAG_LIT : 0u) | (s < 1.0 ? SHADOWS_ISG_FLAG_SHADOW : 0u);
       atomicOr(s_flags, f);
       // Positive floats order as their bits.
       if (s < 1.0 && occluder[i] > 0.0) atomicMax(s_dmax, floatBitsToUint(occluder[i]));
+      if ((pc.flags & SHADOWS_ISG_HAS_POSITION) != 0u) {
+        rel = isg_rel_from_world(vec3(geo[i], geo[n + i], geo[2u * n + i]), vec3(pc.eye_x, pc.eye_y, pc.eye_z),
+                                 vec3(pc.eye_lo_x, pc.eye_lo_y, pc.eye_lo_z));
+      } else {
+        // Frame coordinates (a tile adds its origin), so a tile rounds as the whole frame does.
+        vec2 xy = vec2(p + uvec2(pc.origin & 0xffffu, pc.origin >> 16)) + 0.5;
+        mat3 rot = mat3(pc.r00, pc.r10, pc.r20, pc.r01, pc.r11, pc.r21, pc.r02, pc.r12, pc.r22);
+        rel = isg_rel_from_depth(xy, geo[i], vec2(pc.cx, pc.cy), pc.f_px, rot);
+      }
     }
+    // Background pixels carry SHADOWS_ISG_BACKGROUND instead of L.shadow.
+    pack[i] = vec4(rel, fg[i] != 0.0 ? s : SHADOWS_ISG_BACKGROUND);
   }
   barrier();
   if (gl_LocalInvocationIndex == 0u) {

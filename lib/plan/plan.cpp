@@ -217,8 +217,10 @@ Plan make_plan(const io::Roles& roles, const io::Scene& scene, const params::Par
       plan.resources.push_back({tiles, 1, false,
                                 uint64_t(effects::shadows_isg_tiles_words(uint32_t(width),
                                                                           uint32_t(height))) * 4});
+      // shadows.isg.tiles packs each pixel's tap data (P − eye, L.shadow) into one texel.
+      need(l + ".isg.pack", 4, false);
       plan.passes.push_back({"shadows.isg", "shadows.isg[" + l + "]", {sh, occ, geo, "fg"},
-                             {soft, tiles}, l});
+                             {soft, tiles, l + ".isg.pack"}, l});
     } else if (plan.shadowmaps.count(l)) {
       // The map is read from its own EXR by the run, not from the input image.
       const std::string geo = roles.has("position") ? "position" : "depth", smap = l + ".shadowmap";

@@ -88,7 +88,8 @@ Stats execute(gpu::Context& ctx, const plan::Plan& plan, const io::Roles& roles,
       if (!soft_isg) soft_isg = std::make_unique<effects::ShadowsIsgPass>(ctx);
       soft_isg->record(seq, plan.shadows.at(p.light), buf.at(p.reads.at(0)), buf.at(p.reads.at(1)),
                        buf.at(p.reads.at(2)), p.reads.at(2) == "position", buf.at("fg"),
-                       buf.at(p.writes.at(1)), buf.at(p.writes.at(0)), w, h, p.label);
+                       buf.at(p.writes.at(1)), buf.at(p.writes.at(2)), buf.at(p.writes.at(0)), w,
+                       h, p.label);
     } else if (plan.shadowmaps.count(p.light) && p.name == "shadows." + plan.shadowmaps.at(p.light).method) {
       // The light's shadow map: read on the host from its own EXR, uploaded into the plan's
       // L.shadowmap; reads = {L.shadow, position|depth, fg, L.shadowmap}.

@@ -112,14 +112,15 @@ class ShadowsIsg : public isg::test::GpuTest {
     const bool has_p = !in.position.empty();
     gpu::Buffer shadow(ctx(), n * 4, "shadow"), occ(ctx(), n * 4, "occluder"),
         geo(ctx(), (has_p ? 3 : 1) * n * 4, "geo"), fg(ctx(), n * 4, "fg"),
-        tiles(ctx(), fx::shadows_isg_tiles_words(w, h) * 4, "tiles"), soft(ctx(), n * 4, "soft");
+        tiles(ctx(), fx::shadows_isg_tiles_words(w, h) * 4, "tiles"), soft(ctx(), n * 4, "soft"),
+        pack(ctx(), 4 * n * 4, "pack");
     shadow.upload(std::span<const float>(in.shadow));
     occ.upload(std::span<const float>(in.occluder));
     geo.upload(std::span<const float>(has_p ? in.position : in.depth));
     fg.upload(std::span<const float>(in.fg));
     fx::ShadowsIsgPass pass(ctx());
     gpu::Sequence seq(ctx());
-    pass.record(seq, s, shadow, occ, geo, has_p, fg, tiles, soft, w, h, "shadows.isg");
+    pass.record(seq, s, shadow, occ, geo, has_p, fg, tiles, pack, soft, w, h, "shadows.isg");
     seq.submit();
     if (stats) *stats = fx::ShadowsIsgPass::stats(tiles, w, h);
     return soft.download_as<float>(n);

@@ -82,7 +82,13 @@ struct Ctx {
     const double t = dot(d, s.light_normal) / c;
     return len3({d[0] - t * wl[0], d[1] - t * wl[1], d[2] - t * wl[2]});
   }
-  // Bilinear taps of q (pixel centres at +0.5); taps outside the image get weight 0.
+  // Point taps for the search (issue 18): the pixel holding q (pixel centres at +0.5), or -1
+  // outside the image.
+  long long tap(V2 q) const {
+    const long long x = (long long)std::floor(q[0]), y = (long long)std::floor(q[1]);
+    return x >= 0 && y >= 0 && x < in.w && y < in.h ? y * in.w + x : -1;
+  }
+  // Bilinear taps for the gather of the shadow bits; taps outside the image get weight 0.
   void taps(V2 q, size_t t[4], double bw[4]) const {
     double x = q[0] - 0.5, y = q[1] - 0.5;
     double x0 = std::floor(x), y0 = std::floor(y), fx = x - x0, fy = y - y0;
@@ -245,24 +251,20 @@ std::vector<float> shadows_isg_reference(const ShadowInputs& in, const ShadowSet
           for (int k = 0; k < s.grid_search * s.grid_search; ++k) {
             const V2 cs = concentric(k, s.grid_search);
             const V2 q = {p0[0] + Rp * (ca * cs[0] - sa * cs[1]), p0[1] + Rp * (sa * cs[0] + ca * cs[1])};
-            size_t t[4];
-            double bw[4];
-            c.taps(q, t, bw);
-            for (int j = 0; j < 4; ++j) {
-              if (bw[j] == 0.0 || !c.fg(t[j])) continue;
-              const double sj = in.shadow[t[j]], oj = in.occluder[t[j]];
-              if (!(sj < 1.0 && oj > 0.0)) continue;
-              const V3 Pt = c.position(t[j]);
-              double r = c.range_l(len3(sub(Pt, P0))) * (1.0 - sj) * bw[j];
-              const double l = c.across(sub(Pt, P0), wl);
-              if (s.search_reach) {
-                // PCSS's blocker test in image space: the occluder's own penumbra reaches p_0.
-                const double Rt = c.penumbra(oj, len3(sub(s.light, Pt)));
-                r *= std::clamp((SHADOWS_ISG_REACH * Rt + pix - l) / pix, 0.0, 1.0);
-              }
-              sw += r;
-              swd += r * oj;
+            const long long t = c.tap(q);
+            if (t < 0 || !c.fg(size_t(t))) continue;
+            const double sj = in.shadow[t], oj = in.occluder[t];
+            if (!(sj < 1.0 && oj > 0.0)) continue;
+            const V3 Pt = c.position(size_t(t));
+            double r = c.range_l(len3(sub(Pt, P0))) * (1.0 - sj);
+            const double l = c.across(sub(Pt, P0), wl);
+            if (s.search_reach) {
+              // PCSS's blocker test in image space: the occluder's own penumbra reaches p_0.
+              const double Rt = c.penumbra(oj, len3(sub(s.light, Pt)));
+              r *= std::clamp((SHADOWS_ISG_REACH * Rt + pix - l) / pix, 0.0, 1.0);
             }
+            sw += r;
+            swd += r * oj;
           }
           if (sw > 0.0) {
             const double d = swd / sw;
@@ -302,15 +304,37 @@ std::vector<float> shadows_isg_reference(const ShadowInputs& in, const ShadowSet
 }
 
 ShadowsIsgPass::ShadowsIsgPass(gpu::Context& ctx)
-    : tiles_kernel_(ctx, "shadows.isg.tiles", isg_spv_shadows_isg_tiles,
-                    std::vector<gpu::Slot>(4, gpu::Slot::buffer), sizeof(shaders::ShadowsIsgPush),
+    : ctx_(ctx),
+      tiles_kernel_(ctx, "shadows.isg.tiles", isg_spv_shadows_isg_tiles,
+                    std::vector<gpu::Slot>(6, gpu::Slot::buffer), sizeof(shaders::ShadowsIsgTilesPush),
                     SHADOWS_ISG_TILE, SHADOWS_ISG_TILE),
       kernel_(ctx, "shadows.isg", isg_spv_shadows_isg, std::vector<gpu::Slot>(6, gpu::Slot::buffer),
               sizeof(shaders::ShadowsIsgPush), SHADOWS_ISG_TILE, SHADOWS_ISG_TILE) {}
 
+ShadowsIsgPass::~ShadowsIsgPass() = default;
+
+// The search lattice then the gather lattice, (x, y) on the unit disk: the concentric map
+// evaluated once on the host rather than per tap. One table per pair of grids, kept for the
+// pass's life (a sequence may still read an earlier light's).
+const gpu::Buffer& ShadowsIsgPass::samples(int grid_search, int grid_gather) {
+  auto& b = samples_[{grid_search, grid_gather}];
+  if (!b) {
+    std::vector<float> t;
+    for (int grid : {grid_search, grid_gather})
+      for (int k = 0; k < grid * grid; ++k) {
+        const auto c = concentric(k, grid);
+        t.push_back(float(c[0]));
+        t.push_back(float(c[1]));
+      }
+    b = std::make_unique<gpu::Buffer>(ctx_, t.size() * sizeof(float), "shadows.isg.samples");
+    b->upload(std::span<const float>(t));
+  }
+  return *b;
+}
+
 void ShadowsIsgPass::record(gpu::Sequence& seq, const ShadowSettings& s, const gpu::Buffer& shadow,
                             const gpu::Buffer& occluder, const gpu::Buffer& geo, bool has_position,
-                            const gpu::Buffer& fg, gpu::Buffer& tiles,
+                            const gpu::Buffer& fg, gpu::Buffer& tiles, const gpu::Buffer& pack,
                             const gpu::Buffer& soft, uint32_t w, uint32_t h,
                             const std::string& label) {
   shaders::ShadowsIsgPush pc{};
@@ -328,12 +352,10 @@ void ShadowsIsgPass::record(gpu::Sequence& seq, const ShadowSettings& s, const g
   pc.inv_scene_radius = float(1.0 / s.scene_radius);
   pc.max_radius = float(s.max_radius);
   pc.f_px = float(s.f_px);
-  pc.light_x = float(s.light[0]);
-  pc.light_y = float(s.light[1]);
-  pc.light_z = float(s.light[2]);
-  pc.eye_x = float(s.eye[0]);
-  pc.eye_y = float(s.eye[1]);
-  pc.eye_z = float(s.eye[2]);
+  // The shaders work relative to the camera: the light's offset is formed in double.
+  pc.light_x = float(s.light[0] - s.eye[0]);
+  pc.light_y = float(s.light[1] - s.eye[1]);
+  pc.light_z = float(s.light[2] - s.eye[2]);
   pc.light_nx = float(s.light_normal[0]);
   pc.light_ny = float(s.light_normal[1]);
   pc.light_nz = float(s.light_normal[2]);
@@ -341,6 +363,26 @@ void ShadowsIsgPass::record(gpu::Sequence& seq, const ShadowSettings& s, const g
   pc.r00 = float(m[0]), pc.r01 = float(m[1]), pc.r02 = float(m[2]);
   pc.r10 = float(m[3]), pc.r11 = float(m[4]), pc.r12 = float(m[5]);
   pc.r20 = float(m[6]), pc.r21 = float(m[7]), pc.r22 = float(m[8]);
+
+  shaders::ShadowsIsgTilesPush tp{};
+  tp.width = w;
+  tp.height = h;
+  tp.origin = pc.origin;
+  tp.flags = has_position ? SHADOWS_ISG_HAS_POSITION : 0u;
+  tp.cx = pc.cx;
+  tp.cy = pc.cy;
+  tp.f_px = pc.f_px;
+  // The eye as a float and its remainder, so P − eye keeps the digits a far scene has.
+  tp.eye_x = float(s.eye[0]);
+  tp.eye_y = float(s.eye[1]);
+  tp.eye_z = float(s.eye[2]);
+  tp.eye_lo_x = float(s.eye[0] - double(tp.eye_x));
+  tp.eye_lo_y = float(s.eye[1] - double(tp.eye_y));
+  tp.eye_lo_z = float(s.eye[2] - double(tp.eye_z));
+  tp.r00 = pc.r00, tp.r01 = pc.r01, tp.r02 = pc.r02;
+  tp.r10 = pc.r10, tp.r11 = pc.r11, tp.r12 = pc.r12;
+  tp.r20 = pc.r20, tp.r21 = pc.r21, tp.r22 = pc.r22;
+
   // The statistics are accumulated with atomics: start from zero.
   // A tile starts from the whole frame's d_max (eq. 8), as the one-piece run would end with.
   std::vector<uint32_t> zero(shadows_isg_tiles_words(w, h), 0u);
@@ -348,12 +390,13 @@ void ShadowsIsgPass::record(gpu::Sequence& seq, const ShadowSettings& s, const g
   std::memcpy(&zero[(zero.size() - SHADOWS_ISG_STATS) + SHADOWS_ISG_STAT_DMAX], &dm, sizeof dm);
   tiles.upload(std::span<const uint32_t>(zero));
   seq.dispatch(tiles_kernel_,
-               {gpu::Binding::of(shadow), gpu::Binding::of(occluder), gpu::Binding::of(fg),
-                gpu::Binding::of(tiles)},
-               pc, w, h, label + ".tiles");
-  seq.dispatch(kernel_,
                {gpu::Binding::of(shadow), gpu::Binding::of(occluder), gpu::Binding::of(geo),
-                gpu::Binding::of(fg), gpu::Binding::of(tiles), gpu::Binding::of(soft)},
+                gpu::Binding::of(fg), gpu::Binding::of(tiles), gpu::Binding::of(pack)},
+               tp, w, h, label + ".tiles");
+  seq.dispatch(kernel_,
+               {gpu::Binding::of(pack), gpu::Binding::of(occluder), gpu::Binding::of(tiles),
+                gpu::Binding::of(soft), gpu::Binding::of(samples(s.grid_search, s.grid_gather)),
+                gpu::Binding::of(shadow)},
                pc, w, h, label);
 }
 

@@ -15,6 +15,10 @@
 // The composite term L.direct·(L.softshadow − L.shadow) is the shared composite_term pass.
 #pragma once
 
+#include <map>
+#include <memory>
+#include <utility>
+
 #include <cstdint>
 #include <string>
 #include <vector>
@@ -49,17 +53,22 @@ uint32_t shadows_isg_tiles_words(uint32_t w, uint32_t h);
 class ShadowsIsgPass {
  public:
   explicit ShadowsIsgPass(gpu::Context& ctx);
+  ~ShadowsIsgPass();
   // geo: P (has_position) or Z. `tiles` holds shadows_isg_tiles_words(w, h) words; it is
-  // cleared here (a host upload, before the sequence runs).
+  // cleared here (a host upload, before the sequence runs). `pack` (4 planes) receives the
+  // taps' texels from shadows.isg.tiles.
   void record(gpu::Sequence& seq, const ShadowSettings& s, const gpu::Buffer& shadow,
               const gpu::Buffer& occluder, const gpu::Buffer& geo, bool has_position,
-              const gpu::Buffer& fg, gpu::Buffer& tiles, const gpu::Buffer& soft, uint32_t w,
-              uint32_t h, const std::string& label);
+              const gpu::Buffer& fg, gpu::Buffer& tiles, const gpu::Buffer& pack,
+              const gpu::Buffer& soft, uint32_t w, uint32_t h, const std::string& label);
   // After submit.
   static ShadowIsgStats stats(const gpu::Buffer& tiles, uint32_t w, uint32_t h);
 
  private:
+  const gpu::Buffer& samples(int grid_search, int grid_gather);
+  gpu::Context& ctx_;
   gpu::Kernel tiles_kernel_, kernel_;
+  std::map<std::pair<int, int>, std::unique_ptr<gpu::Buffer>> samples_;
 };
 
 }  // namespace isg::effects
