@@ -211,6 +211,13 @@ void print_timings(const isg::gpu::Context& ctx, const isg::run::LoadedFrame& f,
               << " pixels searched and gathered, " << sh.clamped_pixels
               << " needed a radius over shadows.max_radius (clamped)\n";
   }
+  for (const auto& g : st.gathers) {
+    double ms = 0;
+    for (const auto& t : st.passes) ms += t.name == g.pass ? t.ms : 0.0;
+    const double samples = double(g.pixels) * double(g.samples_per_pixel);
+    std::cout << g.pass << ": " << g.pixels << " pixels x " << g.samples_per_pixel << " samples, "
+              << (ms > 0 ? samples / (ms * 1e3) : 0.0) << " M samples/s\n";
+  }
   for (const auto& sm : st.shadowmaps) {
     std::cout << "shadows[" << sm.light << "] (" << sm.method << "): " << sm.skipped_fraction * 100.0
               << "% of " << sm.pixels << " pixels in the shadow map skipped the filter (fully lit "

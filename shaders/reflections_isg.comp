@@ -20,7 +20,7 @@ layout(std430, binding = 4) writeonly buffer Glossy { float glossy[]; };
 layout(std430, binding = 5) writeonly buffer Tiles { float tiles[]; };
 layout(push_constant) uniform Push { ReflIsgPush pc; };
 
-shared uint tile_glossy;
+shared uint tile_glossy;  // glossy pixels in the tile
 
 float roughness_at(uint i) { return (pc.flags & REFL_HAS_ROUGHNESS) != 0u ? rough[i] : pc.roughness; }
 // A pixel holds reflection data to gather from: foreground with a non-zero weight.
@@ -167,11 +167,12 @@ void main() {
   if (gl_LocalInvocationIndex == 0u) tile_glossy = 0u;
   barrier();
   bool g = inside && is_glossy(i);
-  if (g) atomicOr(tile_glossy, 1u);
+  if (g) atomicAdd(tile_glossy, 1u);
   barrier();
-  // Tiles with nothing glossy take the cheap path: refl.glossy = refl.
+  // Tiles with nothing glossy take the cheap path: refl.glossy = refl. The others record how
+  // many pixels ran the search and gather (as −count: the statistics behind --timings).
   if (gl_LocalInvocationIndex == 0u)
-    tiles[gl_WorkGroupID.y * gl_NumWorkGroups.x + gl_WorkGroupID.x] = tile_glossy == 0u ? 1.0 : 0.0;
+    tiles[gl_WorkGroupID.y * gl_NumWorkGroups.x + gl_WorkGroupID.x] = tile_glossy == 0u ? 1.0 : -float(tile_glossy);
   if (!inside) return;
   vec3 c = pack_color[i].rgb;
   if (tile_glossy != 0u && g) c = pc.mode == REFL_MODE_BLUR ? refl_blur(p, i) : refl_isg(p, i);

@@ -239,6 +239,15 @@ Context::Context(const ContextOptions& opt) : user_callback_(opt.on_message) {
     VkPhysicalDeviceProperties p{};
     vkGetPhysicalDeviceProperties(physical_, &p);
     timestamp_period_ns_ = p.limits.timestampPeriod;
+    if (info_.type == VK_PHYSICAL_DEVICE_TYPE_CPU || info_.type == VK_PHYSICAL_DEVICE_TYPE_INTEGRATED_GPU) {
+      constexpr VkMemoryPropertyFlags kUnified = VK_MEMORY_PROPERTY_DEVICE_LOCAL_BIT |
+                                                 VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT |
+                                                 VK_MEMORY_PROPERTY_HOST_COHERENT_BIT;
+      VkPhysicalDeviceMemoryProperties mp{};
+      vkGetPhysicalDeviceMemoryProperties(physical_, &mp);
+      for (uint32_t i = 0; i < mp.memoryTypeCount; ++i)
+        unified_memory_ = unified_memory_ || (mp.memoryTypes[i].propertyFlags & kUnified) == kUnified;
+    }
     open_pipeline_cache(opt.pipeline_cache);
     if (debug_utils_) {
       set_name_ = reinterpret_cast<PFN_vkSetDebugUtilsObjectNameEXT>(
@@ -262,7 +271,9 @@ VkDeviceMemory Context::allocate_memory(const VkMemoryRequirements& req,
     throw GpuError("out of GPU memory allocating " + std::to_string(req.size >> 20) + " MiB for " +
                    what);
   }
-  const bool staging = (props & VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT) != 0;
+  // Mapped device-local memory (unified_memory) is the buffer itself, not staging.
+  const bool staging = (props & VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT) != 0 &&
+                       (props & VK_MEMORY_PROPERTY_DEVICE_LOCAL_BIT) == 0;
   allocations_[mem] = {req.size, staging};
   auto& now = staging ? memory_use_.staging_now : memory_use_.device_now;
   auto& peak = staging ? memory_use_.staging_peak : memory_use_.device_peak;

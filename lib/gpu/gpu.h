@@ -58,12 +58,15 @@ std::vector<DeviceInfo> list_devices();
 
 class Context;
 
-// A device-local storage buffer. Host transfers go through a staging copy so the same code is
-// right on discrete GPUs and on lavapipe.
+// A device-local storage buffer. On a device whose memory is the host's (lavapipe, integrated
+// GPUs: Context::unified_memory) the buffer is mapped and host transfers are plain copies;
+// elsewhere they go through a staging copy.
 class Buffer {
  public:
+  // `zero`: contents start at zero; false for buffers that an upload fills whole.
+  enum class Init { zero, none };
   Buffer() = default;
-  Buffer(Context& ctx, VkDeviceSize bytes, const std::string& debug_name);
+  Buffer(Context& ctx, VkDeviceSize bytes, const std::string& debug_name, Init init = Init::zero);
   ~Buffer();
   Buffer(Buffer&& o) noexcept;
   Buffer& operator=(Buffer&& o) noexcept;
@@ -91,6 +94,7 @@ class Buffer {
   Context* ctx_ = nullptr;
   VkBuffer buffer_ = VK_NULL_HANDLE;
   VkDeviceMemory memory_ = VK_NULL_HANDLE;
+  void* mapped_ = nullptr;  // unified memory: the buffer's bytes, mapped for its life
   VkDeviceSize size_ = 0;
 };
 
@@ -221,6 +225,9 @@ class Context {
   const std::string& pipeline_cache_file() const { return cache_file_; }
   size_t pipeline_cache_loaded_bytes() const { return cache_loaded_bytes_; }
   uint32_t memory_type(uint32_t type_bits, VkMemoryPropertyFlags props) const;
+  // Device memory is host memory (a CPU device or an integrated GPU with a device-local,
+  // host-visible, coherent type): buffers are mapped and transfers skip the staging copy.
+  bool unified_memory() const { return unified_memory_; }
   double timestamp_period_ns() const { return timestamp_period_ns_; }
   bool timestamps() const { return info_.timestamps; }
 
@@ -263,6 +270,7 @@ class Context {
   void save_pipeline_cache();
   DeviceInfo info_;
   double timestamp_period_ns_ = 1.0;
+  bool unified_memory_ = false;
   bool debug_utils_ = false;
   PFN_vkSetDebugUtilsObjectNameEXT set_name_ = nullptr;
   std::vector<std::string> messages_;

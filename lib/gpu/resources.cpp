@@ -67,7 +67,8 @@ void barrier_all(VkCommandBuffer cmd) {
 
 // ---- Buffer ----
 
-Buffer::Buffer(Context& ctx, VkDeviceSize bytes, const std::string& debug_name) : ctx_(&ctx) {
+Buffer::Buffer(Context& ctx, VkDeviceSize bytes, const std::string& debug_name, Init init)
+    : ctx_(&ctx) {
   if (bytes == 0) bytes = 4;
   if (bytes > ctx.info().max_storage_buffer_range) {
     throw GpuError(debug_name + ": " + std::to_string(bytes) +
@@ -84,14 +85,24 @@ Buffer::Buffer(Context& ctx, VkDeviceSize bytes, const std::string& debug_name) 
   VkMemoryRequirements req{};
   vkGetBufferMemoryRequirements(ctx.device(), buffer_, &req);
   try {
-    memory_ = ctx.allocate_memory(req, VK_MEMORY_PROPERTY_DEVICE_LOCAL_BIT, debug_name);
+    const VkMemoryPropertyFlags props =
+        ctx.unified_memory() ? VK_MEMORY_PROPERTY_DEVICE_LOCAL_BIT | VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT |
+                                   VK_MEMORY_PROPERTY_HOST_COHERENT_BIT
+                             : VK_MEMORY_PROPERTY_DEVICE_LOCAL_BIT;
+    memory_ = ctx.allocate_memory(req, props, debug_name);
+    vkBindBufferMemory(ctx.device(), buffer_, memory_, 0);
+    if (ctx.unified_memory()) check(vkMapMemory(ctx.device(), memory_, 0, VK_WHOLE_SIZE, 0, &mapped_), "vkMapMemory");
   } catch (...) {
     release();
     throw;
   }
-  vkBindBufferMemory(ctx.device(), buffer_, memory_, 0);
   ctx.set_debug_name(VK_OBJECT_TYPE_BUFFER, reinterpret_cast<uint64_t>(buffer_), debug_name);
-  // Defined contents: zero.
+  // Defined contents: zero, unless an upload is about to define them.
+  if (init == Init::none) return;
+  if (mapped_) {
+    std::memset(mapped_, 0, size_);
+    return;
+  }
   ctx.run_once([&](VkCommandBuffer cmd) {
     vkCmdFillBuffer(cmd, buffer_, 0, VK_WHOLE_SIZE, 0);
     barrier_all(cmd);
@@ -102,17 +113,20 @@ Buffer::~Buffer() { release(); }
 
 void Buffer::release() {
   if (ctx_) {
+    if (mapped_) vkUnmapMemory(ctx_->device(), memory_);
     if (buffer_) vkDestroyBuffer(ctx_->device(), buffer_, nullptr);
     if (memory_) ctx_->free_memory(memory_);
   }
   buffer_ = VK_NULL_HANDLE;
   memory_ = VK_NULL_HANDLE;
+  mapped_ = nullptr;
   size_ = 0;
 }
 
 Buffer::Buffer(Buffer&& o) noexcept
     : ctx_(o.ctx_), buffer_(std::exchange(o.buffer_, VK_NULL_HANDLE)),
-      memory_(std::exchange(o.memory_, VK_NULL_HANDLE)), size_(std::exchange(o.size_, 0)) {}
+      memory_(std::exchange(o.memory_, VK_NULL_HANDLE)), mapped_(std::exchange(o.mapped_, nullptr)),
+      size_(std::exchange(o.size_, 0)) {}
 
 Buffer& Buffer::operator=(Buffer&& o) noexcept {
   if (this != &o) {
@@ -120,6 +134,7 @@ Buffer& Buffer::operator=(Buffer&& o) noexcept {
     ctx_ = o.ctx_;
     buffer_ = std::exchange(o.buffer_, VK_NULL_HANDLE);
     memory_ = std::exchange(o.memory_, VK_NULL_HANDLE);
+    mapped_ = std::exchange(o.mapped_, nullptr);
     size_ = std::exchange(o.size_, 0);
   }
   return *this;
@@ -128,6 +143,11 @@ Buffer& Buffer::operator=(Buffer&& o) noexcept {
 void Buffer::upload(const void* data, VkDeviceSize bytes, VkDeviceSize offset) {
   if (bytes == 0) return;
   if (offset + bytes > size_) throw GpuError("Buffer::upload past the end");
+  if (mapped_) {
+    // Coherent memory: host writes before the next vkQueueSubmit are visible to it.
+    std::memcpy(static_cast<char*>(mapped_) + offset, data, bytes);
+    return;
+  }
   Staging st(*ctx_, bytes);
   std::memcpy(st.mapped, data, bytes);
   ctx_->run_once([&](VkCommandBuffer cmd) {
@@ -140,6 +160,18 @@ void Buffer::upload(const void* data, VkDeviceSize bytes, VkDeviceSize offset) {
 void Buffer::download(void* data, VkDeviceSize bytes, VkDeviceSize offset) const {
   if (bytes == 0) return;
   if (offset + bytes > size_) throw GpuError("Buffer::download past the end");
+  if (mapped_) {
+    // The device's writes made visible to the host, then read in place.
+    ctx_->run_once([](VkCommandBuffer cmd) {
+      VkMemoryBarrier mb{VK_STRUCTURE_TYPE_MEMORY_BARRIER};
+      mb.srcAccessMask = VK_ACCESS_MEMORY_WRITE_BIT;
+      mb.dstAccessMask = VK_ACCESS_HOST_READ_BIT;
+      vkCmdPipelineBarrier(cmd, VK_PIPELINE_STAGE_ALL_COMMANDS_BIT, VK_PIPELINE_STAGE_HOST_BIT, 0, 1,
+                           &mb, 0, nullptr, 0, nullptr);
+    });
+    std::memcpy(data, static_cast<const char*>(mapped_) + offset, bytes);
+    return;
+  }
   Staging st(*ctx_, bytes);
   ctx_->run_once([&](VkCommandBuffer cmd) {
     barrier_all(cmd);

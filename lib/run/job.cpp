@@ -191,7 +191,10 @@ Stats execute_tiled(gpu::Context& ctx, const JobConfig& job, LoadedFrame& f, int
         total.shadowmaps = st.shadowmaps;
         total.dof_cheap_fraction = st.dof_cheap_fraction;
         total.refl_skipped_fraction = st.refl_skipped_fraction;
+        total.gathers = st.gathers;
       } else {
+        for (size_t j = 0; j < total.gathers.size() && j < st.gathers.size(); ++j)
+          total.gathers[j].pixels += st.gathers[j].pixels;
         const double k = 1.0 / tiles;
         for (size_t j = 0; j < total.shadows.size() && j < st.shadows.size(); ++j) {
           auto& a = total.shadows[j];

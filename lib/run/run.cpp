@@ -39,7 +39,7 @@ Stats execute(gpu::Context& ctx, const plan::Plan& plan, const io::Roles& roles,
   auto t0 = Clock::now();
   std::map<std::string, gpu::Buffer> buf;
   for (const auto& r : plan.resources) {
-    gpu::Buffer b(ctx, r.bytes, r.name);
+    gpu::Buffer b(ctx, r.bytes, r.name, r.upload ? gpu::Buffer::Init::none : gpu::Buffer::Init::zero);
     if (r.upload) {
       const std::string role = r.name == "composite" ? "beauty" : r.name;
       const io::RoleBinding* rb = roles.get(role);
@@ -181,6 +181,9 @@ Stats execute(gpu::Context& ctx, const plan::Plan& plan, const io::Roles& roles,
     if (plan.shadows.count(l)) {
       auto t = effects::ShadowsIsgPass::stats(buf.at(l + ".shadow.tiles"), w, h);
       st.shadows.push_back({l, t.skipped_fraction, t.clamped_pixels, t.full_pixels});
+      const auto& ss = plan.shadows.at(l);
+      st.gathers.push_back({"shadows.isg[" + l + "]", t.full_pixels,
+                            uint64_t(ss.grid_search * ss.grid_search + ss.grid_gather * ss.grid_gather)});
     }
   }
   if (plan.refl) {
@@ -189,8 +192,12 @@ Stats execute(gpu::Context& ctx, const plan::Plan& plan, const io::Roles& roles,
     for (size_t c = 0; c < 3; ++c)
       img.set(rgb[c], std::vector<float>(g.begin() + c * n, g.begin() + (c + 1) * n),
               io::Storage::f32);
-    st.refl_skipped_fraction =
-        effects::ReflectionsPass::skipped_fraction(buf.at("refl.tiles"), w, h);
+    const auto rt = effects::ReflectionsPass::stats(buf.at("refl.tiles"), w, h);
+    st.refl_skipped_fraction = rt.skipped_fraction;
+    const auto& rs = plan.refl.value();
+    st.gathers.push_back({"reflections." + rs.method, rt.glossy_pixels,
+                          uint64_t(rs.method == "blur" ? 0 : rs.grid_search * rs.grid_search) +
+                              uint64_t(rs.grid_gather * rs.grid_gather)});
   }
   if (plan.dof) {
     img.set("dof.coc", buf.at("dof.coc").download_as<float>(n), io::Storage::f32);

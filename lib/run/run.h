@@ -36,6 +36,13 @@ struct Stats {
     uint64_t gpu_bytes = 0;  // the method's own buffers (SATs, basis images, HSM)
   };
   std::vector<ShadowmapSkip> shadowmaps;
+  // The gather passes' load, for samples/s against the roofline (--timings): pixels that ran
+  // the search and gather, and lattice samples per pixel (search + gather).
+  struct GatherLoad {
+    std::string pass;  // its label in `passes`
+    uint64_t pixels = 0, samples_per_pixel = 0;
+  };
+  std::vector<GatherLoad> gathers;
   int tiles = 0;  // large plates: tiles the frame was processed in (0: one piece)
   std::set<std::string> warnings;  // one line each, naming the file (e.g. NaN depths in a map)
   double gpu_ms() const;

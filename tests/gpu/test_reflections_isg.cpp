@@ -60,7 +60,7 @@ GpuOut run_gpu(gpu::Context& ctx, const fx::ReflInputs& in, const fx::ReflSettin
                pack_color, glossy, tiles},
               w, h, "reflections.isg");
   seq.submit();
-  return {glossy.download_as<float>(3 * n), fx::ReflectionsPass::skipped_fraction(tiles, w, h)};
+  return {glossy.download_as<float>(3 * n), fx::ReflectionsPass::stats(tiles, w, h).skipped_fraction};
 }
 
 // A camera at (0, 0, height) looking straight down at the floor z = 0 (world_to_camera is a

@@ -328,12 +328,17 @@ void ReflectionsPass::record(gpu::Sequence& seq, const ReflBuffers& b, uint32_t 
                pc, w, h, label);
 }
 
-double ReflectionsPass::skipped_fraction(const gpu::Buffer& tiles, uint32_t w, uint32_t h) {
+ReflTileStats ReflectionsPass::stats(const gpu::Buffer& tiles, uint32_t w, uint32_t h) {
   const uint32_t nt = refl_tiles(w, h);
   auto t = tiles.download_as<float>(nt);
+  ReflTileStats st;
   size_t k = 0;
-  for (float v : t) k += v != 0.0f ? 1 : 0;
-  return nt ? double(k) / nt : 0.0;
+  for (float v : t) {
+    k += v > 0.0f ? 1 : 0;
+    st.glossy_pixels += v < 0.0f ? uint64_t(-v) : 0;
+  }
+  st.skipped_fraction = nt ? double(k) / nt : 0.0;
+  return st;
 }
 
 }  // namespace isg::effects

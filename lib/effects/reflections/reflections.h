@@ -42,6 +42,11 @@ struct ReflBuffers {
   const gpu::Buffer &fg, &pack_geo, &pack_color, &glossy, &tiles;
 };
 
+struct ReflTileStats {
+  double skipped_fraction = 0;  // tiles with nothing glossy
+  uint64_t glossy_pixels = 0;   // pixels that ran the search and gather
+};
+
 // reflections.pack (the taps' data in two 16-byte texels a pixel) then reflections.isg.
 class ReflectionsPass {
  public:
@@ -49,8 +54,8 @@ class ReflectionsPass {
   ~ReflectionsPass();
   void record(gpu::Sequence& seq, const ReflBuffers& b, uint32_t w, uint32_t h,
               const std::string& label);
-  // After submit: the fraction of tiles that took the cheap path.
-  static double skipped_fraction(const gpu::Buffer& tiles, uint32_t w, uint32_t h);
+  // After submit: the tiles that took the cheap path and the pixels that were gathered.
+  static ReflTileStats stats(const gpu::Buffer& tiles, uint32_t w, uint32_t h);
 
  private:
   shaders::ReflIsgPush push(uint32_t w, uint32_t h, bool has_position, bool has_rough) const;
