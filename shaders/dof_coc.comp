@@ -1,13 +1,14 @@
 #version 450
 #extension GL_GOOGLE_include_directive : require
 // dof.coc: eq. 15, the signed circle of confusion in pixels (near negative, far positive), and a
-// copy of the composite for the gathers to read while they write the composite.
+// copy of the composite for the gathers to read while they write the composite, as one RGBA
+// texel a pixel (a bilinear tap is four 16-byte loads, not sixteen scattered floats; issue 18).
 #include "dof_coc_io.h"
 layout(local_size_x = DOF_LOCAL, local_size_y = DOF_LOCAL) in;
 layout(std430, binding = 0) readonly buffer Composite { float C[]; };
 layout(std430, binding = 1) readonly buffer Depth { float depth[]; };
 layout(std430, binding = 2) writeonly buffer Coc { float coc[]; };
-layout(std430, binding = 3) writeonly buffer Src { float src[]; };
+layout(std430, binding = 3) writeonly buffer Src { vec4 src[]; };
 layout(push_constant) uniform Push { DofPush pc; };
 
 void main() {
@@ -20,5 +21,5 @@ void main() {
   // Background blurs like a point at infinity: c -> c_inf.
   float c = bg ? pc.c_inf : pc.c_inf * (z - pc.z_f) / z;
   coc[i] = clamp(c, -pc.max_coc, pc.max_coc);
-  for (uint k = 0u; k < 4u; ++k) src[k * n + i] = C[k * n + i];
+  src[i] = vec4(C[i], C[n + i], C[2u * n + i], C[3u * n + i]);
 }

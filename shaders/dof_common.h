@@ -1,10 +1,19 @@
 // GLSL helpers shared by the dof passes; lib/effects/dof/dof.cpp mirrors each one in double.
-// Include after declaring `coc_buf` (signed CoC) and, for colour, `src_buf` (4 planes).
+// Include after declaring `coc_buf` (signed CoC) and, for colour, `src_buf` (RGBA texels).
 #ifndef DOF_COMMON_H
 #define DOF_COMMON_H
 #include "dof_io.h"
 #include "isg_sampling.h"
 const float DOF_PI = 3.14159265358979;
+
+// The sample lattice through the concentric map, evaluated once per workgroup rather than once
+// per tap (issue 18). Call at the top of main, before any invocation returns.
+shared vec2 dof_lattice[DOF_MAX_LATTICE];
+void dof_fill_lattice() {
+  for (uint k = gl_LocalInvocationIndex; k < pc.grid * pc.grid; k += gl_WorkGroupSize.x * gl_WorkGroupSize.y)
+    dof_lattice[k] = isg_concentric(k, pc.grid);
+  barrier();
+}
 
 
 // Aperture "norm": |v| for a disk, |v| / rho(angle) for an n-gon of circumradius 1, so a point
@@ -52,29 +61,21 @@ float dof_fetch_coc(vec2 q) {
 vec4 dof_fetch_src(vec2 q) {
   uint a, b, c, d; vec2 f;
   dof_taps(q, pc.width, pc.height, a, b, c, d, f);
-  uint n = pc.width * pc.height;
-  vec4 r;
-  for (uint k = 0u; k < 4u; ++k) {
-    uint o = k * n;
-    r[k] = mix(mix(src_buf[o + a], src_buf[o + b], f.x), mix(src_buf[o + c], src_buf[o + d], f.x), f.y);
-  }
-  return r;
+  return mix(mix(src_buf[a], src_buf[b], f.x), mix(src_buf[c], src_buf[d], f.x), f.y);
 }
-vec4 dof_src(uint i) {
-  uint n = pc.width * pc.height;
-  return vec4(src_buf[i], src_buf[n + i], src_buf[2u * n + i], src_buf[3u * n + i]);
-}
+vec4 dof_src(uint i) { return src_buf[i]; }
 // The cheap path (tiles whose CoC range is under DOF_CHEAP_RANGE): a plain aperture average of
 // radius |c0|, faded to the sharp pixel below half a pixel.
 vec4 dof_cheap(uvec2 p, float c0, float rot_angle) {
   vec2 p0 = vec2(p) + 0.5;
   vec4 c_0 = dof_src(p.y * pc.width + p.x);
   float r = abs(c0);
+  if (r <= 0.25) return c_0;  // the fade below keeps the sharp pixel exactly: skip the gather
   mat2 rot = mat2(cos(rot_angle), sin(rot_angle), -sin(rot_angle), cos(rot_angle));
   vec4 s = c_0;
   float ws = 1.0;
   for (uint k = 0u; k < pc.grid * pc.grid; ++k) {
-    vec2 d = r * (rot * isg_concentric(k, pc.grid));
+    vec2 d = r * (rot * dof_lattice[k]);
     float w = dof_cover(d, r, pc.blades, pc.rotation);
     s += w * dof_fetch_src(p0 + d);
     ws += w;

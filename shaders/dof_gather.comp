@@ -5,7 +5,7 @@
 // object before a blurry background) only counts inside its own CoC.
 #include "dof_gather_io.h"
 layout(local_size_x = DOF_LOCAL, local_size_y = DOF_LOCAL) in;
-layout(std430, binding = 0) readonly buffer Src { float src_buf[]; };
+layout(std430, binding = 0) readonly buffer Src { vec4 src_buf[]; };  // dof.input, RGBA texels
 layout(std430, binding = 1) readonly buffer Coc { float coc_buf[]; };
 layout(std430, binding = 2) readonly buffer Tiles { float tiles[]; };
 layout(std430, binding = 3) readonly buffer Radius { float radius[]; };
@@ -16,6 +16,7 @@ layout(push_constant) uniform Push { DofPush pc; };
 #include "dof_common.h"
 
 void main() {
+  dof_fill_lattice();
   uvec2 p = gl_GlobalInvocationID.xy;
   if (p.x >= pc.width || p.y >= pc.height) return;
   uint n = pc.width * pc.height;
@@ -34,7 +35,7 @@ void main() {
     vec4 s = c_0;
     float ws = 1.0;
     for (uint k = 0u; k < pc.grid * pc.grid; ++k) {
-      vec2 d = R_g * (rot * isg_concentric(k, pc.grid));
+      vec2 d = R_g * (rot * dof_lattice[k]);
       float ci = dof_fetch_coc(p0 + d);
       float own = dof_cover(ci >= 0.0 ? -d : d, abs(ci), pc.blades, pc.rotation);
       float front_sharper = smoothstep(0.0, 1.0, c0 - ci) * smoothstep(0.0, 1.0, abs(c0) - abs(ci));

@@ -4,6 +4,8 @@
 ISG_IO_BEGIN
 // Depth of field (paper §3.3): every dof pass shares this push block.
 #define DOF_LOCAL 8
+// Largest sample lattice (dof.samples ≤ 1024: a 32 × 32 grid), kept in shared memory.
+#define DOF_MAX_LATTICE 1024
 #define DOF_TILE 16  // tile side for the classification (NRD's ClassifyTiles)
 // CoC range (max - min, pixels) below which a tile takes the cheap path.
 #define DOF_CHEAP_RANGE 0.5

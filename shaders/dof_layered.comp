@@ -8,7 +8,7 @@
 // blurry foreground over an in-focus object.
 #include "dof_layered_io.h"
 layout(local_size_x = DOF_LOCAL, local_size_y = DOF_LOCAL) in;
-layout(std430, binding = 0) readonly buffer Src { float src_buf[]; };
+layout(std430, binding = 0) readonly buffer Src { vec4 src_buf[]; };  // dof.input, RGBA texels
 layout(std430, binding = 1) readonly buffer Coc { float coc_buf[]; };
 layout(std430, binding = 2) readonly buffer Tiles { float tiles[]; };
 layout(std430, binding = 3) writeonly buffer Composite { float C[]; };
@@ -18,6 +18,7 @@ layout(push_constant) uniform Push { DofPush pc; };
 #include "dof_common.h"
 
 void main() {
+  dof_fill_lattice();
   uvec2 p = gl_GlobalInvocationID.xy;
   if (p.x >= pc.width || p.y >= pc.height) return;
   uint n = pc.width * pc.height;
@@ -40,7 +41,7 @@ void main() {
     vec4 Sn = m0 * w0 * c_0, Sf = (1.0 - m0) * w0 * c_0;
     float Wn = m0 * w0, Wf = (1.0 - m0) * w0;
     for (uint k = 0u; k < pc.grid * pc.grid; ++k) {
-      vec2 d = R * (rot * isg_concentric(k, pc.grid));
+      vec2 d = R * (rot * dof_lattice[k]);
       float ci = dof_fetch_coc(p0 + d);
       vec2 v = ci >= 0.0 ? -d : d;
       float mi = smoothstep(0.5, 1.5, -ci);

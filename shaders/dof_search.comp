@@ -14,6 +14,7 @@ layout(push_constant) uniform Push { DofPush pc; };
 #include "dof_common.h"
 
 void main() {
+  dof_fill_lattice();
   uvec2 p = gl_GlobalInvocationID.xy;
   if (p.x >= pc.width || p.y >= pc.height) return;
   uint i = p.y * pc.width + p.x;
@@ -26,7 +27,7 @@ void main() {
   vec2 p0 = vec2(p) + 0.5;
   float sw = 1.0, sv = abs(c0);
   for (uint k = 0u; k < pc.grid * pc.grid; ++k) {
-    vec2 d = R_s * (rot * isg_concentric(k, pc.grid));
+    vec2 d = R_s * (rot * dof_lattice[k]);
     float ci = dof_fetch_coc(p0 + d);
     // The aperture image is upright behind the focal plane and inverted in front of it.
     float reach = dof_cover(ci >= 0.0 ? -d : d, abs(ci), pc.blades, pc.rotation);
