@@ -74,6 +74,9 @@ class Buffer {
   Buffer& operator=(const Buffer&) = delete;
 
   void upload(const void* data, VkDeviceSize bytes, VkDeviceSize offset = 0);
+  // Uploads `bytes` from offset 0 that `write` puts straight into the buffer's mapped memory
+  // (unified memory) or into the staging copy: no intermediate host array.
+  void upload_with(VkDeviceSize bytes, const std::function<void(void*)>& write);
   void download(void* data, VkDeviceSize bytes, VkDeviceSize offset = 0) const;
   template <class T>
   void upload(std::span<const T> v, VkDeviceSize offset = 0) {

@@ -157,6 +157,22 @@ void Buffer::upload(const void* data, VkDeviceSize bytes, VkDeviceSize offset) {
   });
 }
 
+void Buffer::upload_with(VkDeviceSize bytes, const std::function<void(void*)>& write) {
+  if (bytes == 0) return;
+  if (bytes > size_) throw GpuError("Buffer::upload_with past the end");
+  if (mapped_) {
+    write(mapped_);
+    return;
+  }
+  Staging st(*ctx_, bytes);
+  write(st.mapped);
+  ctx_->run_once([&](VkCommandBuffer cmd) {
+    VkBufferCopy c{0, 0, bytes};
+    vkCmdCopyBuffer(cmd, st.buffer, buffer_, 1, &c);
+    barrier_all(cmd);
+  });
+}
+
 void Buffer::download(void* data, VkDeviceSize bytes, VkDeviceSize offset) const {
   if (bytes == 0) return;
   if (offset + bytes > size_) throw GpuError("Buffer::download past the end");

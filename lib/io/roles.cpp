@@ -201,20 +201,30 @@ Roles resolve_roles(const std::vector<std::string>& channels, const RoleRequest&
 
 namespace isg::io {
 std::vector<float> gather_role(const Image& img, const RoleBinding& b, int planes, float fill) {
+  std::vector<float> out(img.pixels() * size_t(planes));
+  gather_role_into(img, b, planes, out.data(), fill);
+  return out;
+}
+
+void gather_role_into(const Image& img, const RoleBinding& b, int planes, float* out, float fill) {
   const size_t n = img.pixels();
-  std::vector<float> out(n * size_t(planes), 0.0f);
   for (int c = 0; c < planes; ++c) {
-    float* dst = out.data() + size_t(c) * n;
+    float* dst = out + size_t(c) * n;
     if (size_t(c) >= b.components()) {
       std::fill(dst, dst + n, fill);
       continue;
     }
+    // The sum of the terms from 0 (0 + x, not a copy: -0 becomes +0 as it always has), one
+    // pass over dst for the usual single term.
+    bool first = true;
     for (const auto& term : b.terms) {
       const Channel* ch = img.find(term[c]);
       if (!ch) throw IoError(img.path.string() + ": channel " + term[c] + " vanished");
-      for (size_t i = 0; i < n; ++i) dst[i] += ch->data[i];
+      if (first) for (size_t i = 0; i < n; ++i) dst[i] = 0.0f + ch->data[i];
+      else for (size_t i = 0; i < n; ++i) dst[i] += ch->data[i];
+      first = false;
     }
+    if (first) std::fill(dst, dst + n, 0.0f);
   }
-  return out;
 }
 }  // namespace isg::io

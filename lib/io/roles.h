@@ -50,4 +50,6 @@ struct Image;
 // The role's value as `planes` consecutive planes (terms summed; missing planes filled with
 // `fill`, e.g. alpha 1 for an RGB beauty).
 std::vector<float> gather_role(const Image& img, const RoleBinding& b, int planes, float fill = 1.0f);
+// The same, written to `dst` (planes × pixels floats; e.g. a mapped GPU buffer).
+void gather_role_into(const Image& img, const RoleBinding& b, int planes, float* dst, float fill = 1.0f);
 }  // namespace isg::io

@@ -44,8 +44,7 @@ Stats execute(gpu::Context& ctx, const plan::Plan& plan, const io::Roles& roles,
       const std::string role = r.name == "composite" ? "beauty" : r.name;
       const io::RoleBinding* rb = roles.get(role);
       if (!rb) throw io::IoError(img.path.string() + ": missing channels for role " + role);
-      auto planes = io::gather_role(img, *rb, r.planes);
-      b.upload(std::span<const float>(planes));
+      b.upload_with(r.bytes, [&](void* dst) { io::gather_role_into(img, *rb, r.planes, static_cast<float*>(dst)); });
     }
     buf.emplace(r.name, std::move(b));
   }
@@ -157,7 +156,12 @@ Stats execute(gpu::Context& ctx, const plan::Plan& plan, const io::Roles& roles,
 
   // Outputs.
   t0 = Clock::now();
-  auto C = buf.at("composite").download_as<float>(4 * n);
+  // Each plane straight into its channel's array (one copy, no intermediate).
+  auto plane = [n](const gpu::Buffer& b, size_t c) {
+    std::vector<float> v(n);
+    b.download(v.data(), n * sizeof(float), c * n * sizeof(float));
+    return v;
+  };
   const bool beauty_is_rgba = beauty->how == "contract name";
   const bool has_alpha = beauty->components() == 4;
   const char* comp[4] = {"R", "G", "B", "A"};
@@ -168,7 +172,7 @@ Stats execute(gpu::Context& ctx, const plan::Plan& plan, const io::Roles& roles,
       io::Channel* orig = img.find(comp[c]);
       orig->name = std::string("input.") + comp[c];
     }
-    img.set(comp[c], std::vector<float>(C.begin() + c * n, C.begin() + (c + 1) * n), s);
+    img.set(comp[c], plane(buf.at("composite"), size_t(c)), s);
   }
   for (const auto& l : plan.soft_lights) {
     const std::string soft = l + ".softshadow";
@@ -187,11 +191,8 @@ Stats execute(gpu::Context& ctx, const plan::Plan& plan, const io::Roles& roles,
     }
   }
   if (plan.refl) {
-    auto g = buf.at("refl.glossy").download_as<float>(3 * n);
     const char* rgb[3] = {"refl.glossy.R", "refl.glossy.G", "refl.glossy.B"};
-    for (size_t c = 0; c < 3; ++c)
-      img.set(rgb[c], std::vector<float>(g.begin() + c * n, g.begin() + (c + 1) * n),
-              io::Storage::f32);
+    for (size_t c = 0; c < 3; ++c) img.set(rgb[c], plane(buf.at("refl.glossy"), c), io::Storage::f32);
     const auto rt = effects::ReflectionsPass::stats(buf.at("refl.tiles"), w, h);
     st.refl_skipped_fraction = rt.skipped_fraction;
     const auto& rs = plan.refl.value();
