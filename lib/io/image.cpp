@@ -24,10 +24,9 @@
 #include <unistd.h>
 
 #include <algorithm>
-#include <ctime>
-
 #include <cmath>
 #include <cstring>
+#include <ctime>
 #include <fstream>
 #include <random>
 
@@ -288,7 +287,7 @@ const ExrName kExrNames[] = {
     {"smpte:TimeCode", "timeCode", OIIO::TypeTimeCode},
     {"smpte:KeyCode", "keyCode", OIIO::TypeKeyCode},
     {"YResolution", "", {}}, {"planarconfig", "", {}}, {"type", "", {}}, {"tiles", "", {}},
-    {"maxSamplesPerPixel", "", {}}, {"ResolutionUnit", "", {}},
+    {"maxSamplesPerPixel", "", {}},
 };
 
 bool iequals(std::string_view a, std::string_view b) {

@@ -297,6 +297,7 @@ TEST(Image, WriteKeepsAttributesAsOIIOWritesThem) {
   a.attribute("Exif:ExposureTime", 0.01f);
   a.attribute("XResolution", 300.0f);
   a.attribute("YResolution", 150.0f);
+  a.attribute("ResolutionUnit", "cm");
 
   isg::io::write_exr(dir / "ours.exr", img, {"zip", false});
   // The same image through OIIO's writer, as write_exr did before it wrote with OpenEXR.
