@@ -18,7 +18,7 @@ if [ "${ISG_FUZZ_SKIP_BUILD:-0}" != 1 ]; then
   cmake --build "$fz"
 fi
 [ "$secs" = 0 ] && exit 0
-# The EXR harness runs OpenEXR's checker through isg-exrcheck, as isg does.
+# The EXR harness decodes through isg-exrcheck, as isg does.
 [ -x "$main/cli/isg-exrcheck" ] && export ISG_EXRCHECK="$main/cli/isg-exrcheck"
 export ASAN_OPTIONS=${ASAN_OPTIONS:-detect_leaks=1}
 for h in "${harnesses[@]}"; do

@@ -173,8 +173,8 @@ std::vector<Def> output_params() {
        "apron its passes read, giving what one piece would; 0: only when the plan's buffers "
        "exceed half the device's memory or its largest storage buffer", "pixels"},
       {"limits.check_seconds", Type::number, "30", 0, 3600, {},
-       "time OpenEXR's own checker may take on an input before decoding, in a child process "
-       "(0 skips it)", "s"},
+       "time OpenEXR may take to decode an input, in a child process where a damaged file "
+       "cannot crash or hang isg (0: decode in isg itself, for trusted files only)", "s"},
   };
 }
 

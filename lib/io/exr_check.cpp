@@ -2,6 +2,7 @@
 
 #include <fcntl.h>
 #include <signal.h>
+#include <sys/mman.h>
 #include <sys/resource.h>
 #include <sys/wait.h>
 #include <unistd.h>
@@ -319,27 +320,71 @@ ExrLayout check_exr_structure(const fs::path& path, const ReadLimits& limits) {
   return L;
 }
 
-void check_exr_with_library(const fs::path& path, const std::string& checker, double seconds,
-                            uint64_t memory_bytes) {
-  const std::string f = path.string();
-  if (::access(checker.c_str(), X_OK) != 0) {
-    throw IoError(f + ": cannot check the file: " + checker + " is missing (set limits.check_seconds = 0 to skip)");
+namespace {
+
+// An open file descriptor, closed on scope exit.
+struct Fd {
+  int fd = -1;
+  explicit Fd(int f) : fd(f) {}
+  Fd(const Fd&) = delete;
+  Fd& operator=(const Fd&) = delete;
+  ~Fd() {
+    if (fd >= 0) ::close(fd);
   }
-  std::string arg0 = "isg-exrcheck";
-  char* argv[] = {arg0.data(), const_cast<char*>(f.c_str()), nullptr};
+};
+
+// The child's last words (stderr went to `fd`), first line only, for the error message.
+std::string child_message(int fd) {
+  char buf[256];
+  ssize_t n = ::pread(fd, buf, sizeof buf - 1, 0);
+  std::string s(buf, size_t(std::max<ssize_t>(n, 0)));
+  if (auto nl = s.find('\n'); nl != std::string::npos) s.resize(nl);
+  return s;
+}
+
+}  // namespace
+
+void decode_exr_in_child(const fs::path& path, const std::string& helper, const ExrDecodeRequest& req,
+                         double seconds, uint64_t memory_bytes,
+                         const std::function<void(size_t, const void*)>& take) {
+  const std::string f = path.string();
+  if (::access(helper.c_str(), X_OK) != 0) {
+    throw IoError(f + ": cannot decode the file: " + helper +
+                  " is missing (set limits.check_seconds = 0 to decode in-process)");
+  }
+  const uint64_t plane_bytes = uint64_t(req.pixels()) * 4;
+  const uint64_t bytes = plane_bytes * req.planes.size();
+  // The planes travel back through anonymous shared memory the child maps as fd 3; its stderr
+  // goes to a second one so a damaged file's reason can be told.
+  Fd shm(::memfd_create("isg-planes", MFD_CLOEXEC));
+  Fd msg(::memfd_create("isg-exrcheck-stderr", MFD_CLOEXEC));
+  if (shm.fd < 0 || msg.fd < 0 || ::ftruncate(shm.fd, off_t(bytes)) != 0) {
+    throw IoError(f + ": cannot create " + std::to_string(bytes >> 20) + " MiB of shared memory for decoding");
+  }
+  // Everything the child needs is built before fork: after it, only async-signal-safe calls.
+  std::vector<std::string> args = {"isg-exrcheck", f, std::to_string(req.x0), std::to_string(req.y0),
+                                   std::to_string(req.width), std::to_string(req.height)};
+  for (const auto& p : req.planes) {
+    args.push_back(std::to_string(p.part));
+    args.push_back(p.name);
+  }
+  std::vector<char*> argv;
+  for (auto& a : args) argv.push_back(a.data());
+  argv.push_back(nullptr);
   pid_t pid = ::fork();
-  if (pid < 0) throw IoError(f + ": cannot start the file checker (fork failed)");
+  if (pid < 0) throw IoError(f + ": cannot start the decoder (fork failed)");
   if (pid == 0) {
-    // Child: only async-signal-safe calls before exec.
     struct rlimit rl {};
     rl.rlim_cur = rl.rlim_max = memory_bytes;
     ::setrlimit(RLIMIT_AS, &rl);
+    // Copies above the standard descriptors first, so the dup2s below cannot clobber each other.
+    int s = ::fcntl(shm.fd, F_DUPFD_CLOEXEC, 10), m = ::fcntl(msg.fd, F_DUPFD_CLOEXEC, 10);
     int devnull = ::open("/dev/null", O_WRONLY);
-    if (devnull >= 0) {
-      ::dup2(devnull, 1);
-      ::dup2(devnull, 2);
+    if (s < 0 || m < 0 || devnull < 0 || ::dup2(devnull, 1) < 0 || ::dup2(m, 2) < 0 ||
+        ::dup2(s, 3) < 0) {
+      ::_exit(4);
     }
-    ::execv(checker.c_str(), argv);
+    ::execv(helper.c_str(), argv.data());
     ::_exit(4);
   }
   auto start = std::chrono::steady_clock::now();
@@ -347,24 +392,46 @@ void check_exr_with_library(const fs::path& path, const std::string& checker, do
   for (;;) {
     pid_t w = ::waitpid(pid, &status, WNOHANG);
     if (w == pid) break;
-    if (w < 0) throw IoError(f + ": the file checker vanished");
+    if (w < 0) throw IoError(f + ": the decoder vanished");
     double el = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     if (el > seconds) {
       ::kill(pid, SIGKILL);
       ::waitpid(pid, &status, 0);
-      throw IoError(f + ": damaged EXR: OpenEXR's checker did not finish in " +
+      throw IoError(f + ": damaged EXR: OpenEXR's decoder did not finish in " +
                     std::to_string(int(seconds)) + " s (limits.check_seconds)");
     }
     std::this_thread::sleep_for(std::chrono::milliseconds(el < 0.05 ? 1 : 10));
   }
   if (WIFSIGNALED(status)) {
-    throw IoError(f + ": damaged EXR: OpenEXR's checker crashed (signal " +
+    throw IoError(f + ": damaged EXR: OpenEXR's decoder crashed (signal " +
                   std::to_string(WTERMSIG(status)) + ")");
   }
-  int code = WIFEXITED(status) ? WEXITSTATUS(status) : 3;
-  if (code == 1) throw IoError(f + ": damaged EXR: OpenEXR's checker found corrupt data");
-  if (code == 4) throw IoError(f + ": cannot check the file: " + checker + " did not start");
-  if (code != 0) throw IoError(f + ": damaged EXR: OpenEXR's checker failed (out of memory or an exception)");
+  int code = WIFEXITED(status) ? WEXITSTATUS(status) : 5;
+  if (code == 1) {
+    std::string why = child_message(msg.fd);
+    throw IoError(f + ": damaged EXR: OpenEXR: " + (why.empty() ? "corrupt data" : why));
+  }
+  if (code == 3) throw IoError(f + ": OpenEXR's decoder ran out of memory (limits.max_memory_mb)");
+  if (code == 4) throw IoError(f + ": cannot decode the file: " + helper + " did not start");
+  if (code != 0) {
+    std::string why = child_message(msg.fd);
+    throw IoError(f + ": damaged EXR: OpenEXR's decoder failed (exit " + std::to_string(code) +
+                  (why.empty() ? "" : ": " + why) + ")");
+  }
+  // Mapped, not read: each plane is copied once, straight into the memory that keeps it.
+  void* mem = ::mmap(nullptr, bytes, PROT_READ, MAP_SHARED | MAP_POPULATE, shm.fd, 0);
+  if (mem == MAP_FAILED) throw IoError(f + ": the decoded planes could not be mapped");
+  struct Unmap {
+    void* p;
+    uint64_t n;
+    ~Unmap() { ::munmap(p, n); }
+  } unmap{mem, bytes};
+  for (size_t i = 0; i < req.planes.size(); ++i) {
+    const uint64_t at = i * plane_bytes;
+    take(i, static_cast<const char*>(mem) + at);
+    // Each plane's pages are freed once taken, so reading peaks at one plane over the image.
+    ::fallocate(shm.fd, FALLOC_FL_PUNCH_HOLE | FALLOC_FL_KEEP_SIZE, off_t(at), off_t(plane_bytes));
+  }
 }
 
 }  // namespace isg::io

@@ -1,14 +1,17 @@
 // Validation of an EXR before any library decodes it: our own bounds-checked walk of the header,
-// the offset tables and every chunk's header, then OpenEXR's own checker (checkOpenEXRFile in
-// its reduced-memory, reduced-time mode) in a child process with a time and memory limit, so a
-// file that crashes or hangs the library becomes a one-line error instead.
+// the offset tables and every chunk's header; then the pixels are decoded by OpenEXR in a child
+// process with a time and memory limit, so a file that crashes or hangs the library becomes a
+// one-line error instead.
 #pragma once
 
 #include <cstdint>
 #include <filesystem>
+#include <functional>
 #include <map>
 #include <string>
 #include <vector>
+
+#include "io/exr_decode.h"
 
 namespace isg::io {
 
@@ -53,11 +56,14 @@ struct ExrLayout {
 // first thing wrong. Reads only headers: cost is independent of the pixel data size.
 ExrLayout check_exr_structure(const std::filesystem::path& path, const ReadLimits& limits);
 
-// Runs OpenEXR's checkOpenEXRFile(path, reduceMemory, reduceTime) through the `checker`
-// executable (isg-exrcheck) in a child process limited to `seconds` and `memory_bytes`; throws
-// IoError if it reports damage, crashes or hangs. A separate executable rather than a bare fork:
-// the library's thread pools do not survive fork.
-void check_exr_with_library(const std::filesystem::path& path, const std::string& checker,
-                            double seconds, uint64_t memory_bytes);
+// Decodes the planes `req` names with OpenEXR in a child process (the `helper` executable,
+// isg-exrcheck) limited to `seconds` and `memory_bytes`, through shared memory; once the child
+// has succeeded, calls `take(i, values)` for each plane in order, with its width * height
+// 4-byte values (see decode_exr_planes), valid during the call. Throws IoError naming the file
+// if the child reports damage, crashes, hangs or runs out of memory; nothing is taken then. A
+// separate executable rather than a bare fork: the library's thread pools do not survive fork.
+void decode_exr_in_child(const std::filesystem::path& path, const std::string& helper,
+                         const ExrDecodeRequest& req, double seconds, uint64_t memory_bytes,
+                         const std::function<void(size_t, const void*)>& take);
 
 }  // namespace isg::io

@@ -2,10 +2,31 @@
 
 #include "io/exr_check.h"
 
+#include <OpenEXR/ImfBoxAttribute.h>
+#include <OpenEXR/ImfChannelList.h>
+#include <OpenEXR/ImfChromaticitiesAttribute.h>
+#include <OpenEXR/ImfDoubleAttribute.h>
+#include <OpenEXR/ImfFloatAttribute.h>
+#include <OpenEXR/ImfFloatVectorAttribute.h>
+#include <OpenEXR/ImfFrameBuffer.h>
+#include <OpenEXR/ImfHeader.h>
+#include <OpenEXR/ImfIntAttribute.h>
+#include <OpenEXR/ImfKeyCodeAttribute.h>
+#include <OpenEXR/ImfMatrixAttribute.h>
+#include <OpenEXR/ImfOutputFile.h>
+#include <OpenEXR/ImfRationalAttribute.h>
+#include <OpenEXR/ImfStringAttribute.h>
+#include <OpenEXR/ImfStringVectorAttribute.h>
+#include <OpenEXR/ImfTimeCodeAttribute.h>
+#include <OpenEXR/ImfVecAttribute.h>
 #include <OpenImageIO/imageio.h>
+#include <sys/mman.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <cmath>
+#include <cstring>
+#include <ctime>
 #include <fstream>
 #include <random>
 
@@ -50,6 +71,22 @@ std::string first_line(std::string s) {
   auto nl = s.find('\n');
   if (nl != std::string::npos) s.resize(nl);
   return s;
+}
+
+// Reserves `n` elements of fresh memory for a plane, faulted in up front. First touch of new
+// memory costs a page fault per 4 KiB, which (on virtual machines especially) is a good part of
+// reading or writing a frame: one madvise call populates the pages, in 2 MiB pages where the
+// kernel allows. Both are hints; without them the pages fault in as usual.
+template <class T>
+void reserve_fresh(std::vector<T>& v, size_t n) {
+  v.reserve(n);
+  const uintptr_t page = 4096, huge = uintptr_t(2) << 20;
+  const uintptr_t b = uintptr_t(v.data()), e = uintptr_t(v.data() + n);
+  // Rounded inwards: the hints must not reach memory the vector does not own.
+  const uintptr_t hb = (b + huge - 1) & ~(huge - 1), he = e & ~(huge - 1);
+  if (he > hb) ::madvise(reinterpret_cast<void*>(hb), he - hb, MADV_HUGEPAGE);
+  const uintptr_t pb = (b + page - 1) & ~(page - 1), pe = e & ~(page - 1);
+  if (pe > pb) ::madvise(reinterpret_cast<void*>(pb), pe - pb, MADV_POPULATE_WRITE);
 }
 
 Storage storage_of(OIIO::TypeDesc t) {
@@ -136,18 +173,12 @@ Image read_exr(const fs::path& path, const ReadLimits& limits) {
   try {
     Image img;
     std::vector<OIIO::ImageSpec> specs;
-    auto in = open_checked(path, limits, img, specs);
-    if (limits.check_seconds > 0 && !limits.checker.empty()) {
-      check_exr_with_library(path, limits.checker, limits.check_seconds,
-                             uint64_t(limits.max_bytes) + (uint64_t(1) << 30));
-    }
+    open_checked(path, limits, img, specs);
+    // Channels in OIIO's order (which is not the file's: OIIO puts R, G, B, A first), decoded in
+    // that order by OpenEXR; the header walk above is all OIIO does.
+    ExrDecodeRequest req{img.x0, img.y0, img.width, img.height, {}};
     for (int part = 0; part < img.parts; ++part) {
-      const OIIO::ImageSpec& s = specs[part];
-      std::vector<float> buf(img.pixels() * size_t(s.nchannels));
-      if (!in->read_image(part, 0, 0, s.nchannels, OIIO::TypeDesc::FLOAT, buf.data())) {
-        throw IoError(f + ": pixel data unreadable (truncated or corrupt): " +
-                      first_line(in->geterror()));
-      }
+      const OIIO::ImageSpec& s = specs[size_t(part)];
       for (int c = 0; c < s.nchannels; ++c) {
         Channel ch;
         ch.name = s.channel_name(c);
@@ -155,9 +186,43 @@ Image read_exr(const fs::path& path, const ReadLimits& limits) {
           throw IoError(f + ": channel " + ch.name + " appears in more than one part");
         }
         ch.storage = storage_of(s.channelformat(c));
-        ch.data.resize(img.pixels());
-        for (size_t i = 0; i < img.pixels(); ++i) ch.data[i] = buf[i * s.nchannels + c];
         img.channels.push_back(std::move(ch));
+        req.planes.push_back({part, s.channel_name(c)});
+      }
+    }
+    if (limits.check_seconds > 0 && !limits.checker.empty()) {
+      // Planes are allocated as they arrive, one at a time, and copied without a zero fill
+      // first: on this path, the cost of reading is mostly that of touching memory.
+      decode_exr_in_child(path, limits.checker, req, limits.check_seconds,
+                          uint64_t(limits.max_bytes) + (uint64_t(1) << 30),
+                          [&](size_t i, const void* values) {
+                            const auto* v = static_cast<const float*>(values);
+                            reserve_fresh(img.channels[i].data, img.pixels());
+                            img.channels[i].data.assign(v, v + img.pixels());
+                          });
+    } else {
+      try {
+        decode_exr_planes(f, req, [&](size_t i) -> void* {
+          reserve_fresh(img.channels[i].data, img.pixels());
+          img.channels[i].data.resize(img.pixels());
+          return img.channels[i].data.data();
+        });
+      } catch (const std::bad_alloc&) {
+        throw;
+      } catch (const std::exception& e) {
+        throw IoError(f + ": pixel data unreadable (truncated or corrupt): " + first_line(e.what()));
+      }
+    }
+    // UINT channels came as raw values: converted as OIIO converts them, in slices so that the
+    // conversion never reads what it has written.
+    for (auto& ch : img.channels) {
+      if (ch.storage != Storage::other) continue;
+      std::vector<uint32_t> raw(std::min<size_t>(ch.data.size(), 1 << 16));
+      for (size_t at = 0; at < ch.data.size(); at += raw.size()) {
+        const size_t n = std::min(raw.size(), ch.data.size() - at);
+        std::memcpy(raw.data(), ch.data.data() + at, n * 4);
+        OIIO::convert_pixel_values(OIIO::TypeDesc::UINT, raw.data(), OIIO::TypeDesc::FLOAT,
+                                   ch.data.data() + at, int(n));
       }
     }
     return img;
@@ -200,31 +265,216 @@ void check_writable(const fs::path& path, const WriteOptions& opt) {
   }
 }
 
+namespace {
+
+// OIIO's names for the EXR standard attributes its reader renames, and the type the EXR
+// attribute has; an empty EXR name is one OpenEXR owns (dropped, as OIIO's writer drops it).
+struct ExrName {
+  const char *oiio, *exr;
+  OIIO::TypeDesc type;
+};
+const ExrName kExrNames[] = {
+    {"worldtocamera", "worldToCamera", OIIO::TypeMatrix},
+    {"worldtoNDC", "worldToNDC", OIIO::TypeMatrix},
+    {"worldtoscreen", "worldToScreen", OIIO::TypeMatrix},
+    {"DateTime", "capDate", OIIO::TypeString},
+    {"ImageDescription", "comments", OIIO::TypeString},
+    {"description", "comments", OIIO::TypeString},
+    {"Copyright", "owner", OIIO::TypeString},
+    {"XResolution", "xDensity", OIIO::TypeFloat},
+    {"ExposureTime", "expTime", OIIO::TypeFloat},
+    {"FNumber", "aperture", OIIO::TypeFloat},
+    {"smpte:TimeCode", "timeCode", OIIO::TypeTimeCode},
+    {"smpte:KeyCode", "keyCode", OIIO::TypeKeyCode},
+    {"YResolution", "", {}}, {"planarconfig", "", {}}, {"type", "", {}}, {"tiles", "", {}},
+    {"maxSamplesPerPixel", "", {}},
+};
+
+bool iequals(std::string_view a, std::string_view b) {
+  return a.size() == b.size() &&
+         std::equal(a.begin(), a.end(), b.begin(),
+                    [](char x, char y) { return std::tolower(x) == std::tolower(y); });
+}
+
+// Adds one of Image::attributes to an OpenEXR header under the name and type OIIO's EXR writer
+// would give it, so writing with OpenEXR directly keeps every attribute a write through OIIO
+// kept. `formats` is OIIO's list of format names: "tiff:..." and the like are other formats'.
+void put_attribute(Imf::Header& h, const OIIO::ParamValue& p, const std::vector<std::string>& formats) {
+  std::string name = p.name().string();
+  OIIO::TypeDesc t = p.type(), want;
+  for (const auto& e : kExrNames) {
+    if (iequals(name, e.oiio) || (*e.exr && iequals(name, e.exr))) {
+      name = e.exr;
+      want = e.type;
+      break;
+    }
+  }
+  if (name.empty()) return;
+  if (name.rfind("oiio:", 0) == 0 && name != "oiio:ConstantColor" && name != "oiio:AverageColor" &&
+      name != "oiio:SHA-1") {
+    return;
+  }
+  if (auto colon = name.find(':'); colon != std::string::npos) {
+    std::string prefix = name.substr(0, colon);
+    for (auto& c : prefix) c = char(std::tolower(c));
+    if (prefix != "openexr" && std::find(formats.begin(), formats.end(), prefix) != formats.end()) return;
+  }
+  if (name.rfind("ICCProfile:", 0) == 0) return;
+  const void* d = p.data();
+  float as_float = 0;
+  if (want == OIIO::TypeFloat && t == OIIO::TypeInt) {
+    as_float = float(*static_cast<const int*>(d));
+    d = &as_float;
+    t = OIIO::TypeFloat;
+  } else if (want == OIIO::TypeMatrix && t == OIIO::TypeDesc(OIIO::TypeDesc::FLOAT, 16)) {
+    t = OIIO::TypeMatrix;
+  }
+  if (want != OIIO::TypeDesc() && !want.equivalent(t)) return;
+  const char* n = name.c_str();
+  const auto* f = static_cast<const float*>(d);
+  const auto* i = static_cast<const int*>(d);
+  const auto* db = static_cast<const double*>(d);
+  const auto base = OIIO::TypeDesc::BASETYPE(t.basetype);
+  const bool is_int = base == OIIO::TypeDesc::INT || base == OIIO::TypeDesc::UINT;
+  const bool is_float = base == OIIO::TypeDesc::FLOAT, is_double = base == OIIO::TypeDesc::DOUBLE;
+  // Vectors and matrices come as aggregates or as plain arrays of 2, 3, 9 or 16 values.
+  const int values = int(t.basevalues());
+  const bool plain = t.aggregate == OIIO::TypeDesc::SCALAR;
+  auto shape = [&](OIIO::TypeDesc::AGGREGATE agg, int len) {
+    return (t.arraylen == 0 && t.aggregate == agg) || (plain && t.arraylen == len);
+  };
+  if (t == OIIO::TypeString) {
+    if (const char* v = *static_cast<const char* const*>(d)) h.insert(n, Imf::StringAttribute(v));
+  } else if (t == OIIO::TypeTimeCode) {
+    const auto* u = static_cast<const unsigned*>(d);
+    h.insert(n, Imf::TimeCodeAttribute(Imf::TimeCode(u[0], u[1])));
+  } else if (t == OIIO::TypeKeyCode) {
+    h.insert(n, Imf::KeyCodeAttribute(Imf::KeyCode(i[0], i[1], i[2], i[3], i[4], i[5], i[6])));
+  } else if (t.arraylen == 0 && t.aggregate == OIIO::TypeDesc::SCALAR) {
+    switch (base) {
+      case OIIO::TypeDesc::INT: case OIIO::TypeDesc::UINT: h.insert(n, Imf::IntAttribute(*i)); break;
+      case OIIO::TypeDesc::INT16: h.insert(n, Imf::IntAttribute(*static_cast<const int16_t*>(d))); break;
+      case OIIO::TypeDesc::UINT16: h.insert(n, Imf::IntAttribute(*static_cast<const uint16_t*>(d))); break;
+      case OIIO::TypeDesc::FLOAT: h.insert(n, Imf::FloatAttribute(*f)); break;
+      case OIIO::TypeDesc::HALF: h.insert(n, Imf::FloatAttribute(float(*static_cast<const half*>(d)))); break;
+      case OIIO::TypeDesc::DOUBLE: h.insert(n, Imf::DoubleAttribute(*db)); break;
+      default: break;
+    }
+  } else if (is_int && t.arraylen == 0 && t.aggregate == OIIO::TypeDesc::VEC2 &&
+             t.vecsemantics == OIIO::TypeDesc::RATIONAL) {
+    h.insert(n, Imf::RationalAttribute(Imf::Rational(i[0], static_cast<const unsigned*>(d)[1])));
+  } else if (t.arraylen == 2 && t.aggregate == OIIO::TypeDesc::VEC2 && (is_int || is_float)) {
+    // Two 2-vectors: a box.
+    if (is_int) h.insert(n, Imf::Box2iAttribute(Imath::Box2i({i[0], i[1]}, {i[2], i[3]})));
+    else h.insert(n, Imf::Box2fAttribute(Imath::Box2f({f[0], f[1]}, {f[2], f[3]})));
+  } else if (shape(OIIO::TypeDesc::VEC2, 2) && (is_int || is_float || is_double)) {
+    if (is_int) h.insert(n, Imf::V2iAttribute(Imath::V2i(i[0], i[1])));
+    else if (is_float) h.insert(n, Imf::V2fAttribute(Imath::V2f(f[0], f[1])));
+    else h.insert(n, Imf::V2dAttribute(Imath::V2d(db[0], db[1])));
+  } else if (shape(OIIO::TypeDesc::VEC3, 3) && (is_int || is_float || is_double)) {
+    if (is_int) h.insert(n, Imf::V3iAttribute(Imath::V3i(i[0], i[1], i[2])));
+    else if (is_float) h.insert(n, Imf::V3fAttribute(Imath::V3f(f[0], f[1], f[2])));
+    else h.insert(n, Imf::V3dAttribute(Imath::V3d(db[0], db[1], db[2])));
+  } else if (shape(OIIO::TypeDesc::MATRIX33, 9) && (is_float || is_double)) {
+    if (is_float) h.insert(n, Imf::M33fAttribute(Imath::M33f(reinterpret_cast<const float(*)[3]>(f))));
+    else h.insert(n, Imf::M33dAttribute(Imath::M33d(reinterpret_cast<const double(*)[3]>(db))));
+  } else if (shape(OIIO::TypeDesc::MATRIX44, 16) && (is_float || is_double)) {
+    if (is_float) h.insert(n, Imf::M44fAttribute(Imath::M44f(reinterpret_cast<const float(*)[4]>(f))));
+    else h.insert(n, Imf::M44dAttribute(Imath::M44d(reinterpret_cast<const double(*)[4]>(db))));
+  } else if (t.arraylen > 0 && is_float && values == 8 && name == "chromaticities") {
+    h.insert(n, Imf::ChromaticitiesAttribute(Imf::Chromaticities(
+                    {f[0], f[1]}, {f[2], f[3]}, {f[4], f[5]}, {f[6], f[7]})));
+  } else if (t.arraylen > 0 && base == OIIO::TypeDesc::STRING) {
+    const auto* v = static_cast<const char* const*>(d);
+    h.insert(n, Imf::StringVectorAttribute(Imf::StringVector(v, v + values)));
+  } else if (t.arraylen > 0 && is_float) {
+    h.insert(n, Imf::FloatVectorAttribute(Imf::FloatVector(f, f + values)));
+  }
+  // Anything else (arrays of unknown length, other shapes) OIIO's writer drops too.
+}
+
+// The capDate OIIO's writer gives a file whose attributes have no DateTime: now, local time.
+std::string now_as_exif_date() {
+  std::time_t now = std::time(nullptr);
+  std::tm tm{};
+  ::localtime_r(&now, &tm);
+  char buf[64];
+  std::snprintf(buf, sizeof buf, "%04d:%02d:%02d %02d:%02d:%02d", tm.tm_year + 1900, tm.tm_mon + 1,
+                tm.tm_mday, tm.tm_hour, tm.tm_min, tm.tm_sec);
+  return buf;
+}
+
+}  // namespace
+
 void write_exr(const fs::path& path, const Image& img, const WriteOptions& opt) {
   const std::string f = path.string();
   check_writable(path, opt);
-  static const char* kCompressions[] = {"none", "rle", "zip", "zips", "piz", "pxr24",
-                                        "b44", "b44a", "dwaa", "dwab"};
-  bool known = false;
-  for (const char* c : kCompressions) known |= opt.compression.rfind(c, 0) == 0;
-  if (!known) throw IoError("--compression " + opt.compression + ": unknown EXR compression");
-
-  OIIO::ImageSpec spec(img.width, img.height, int(img.channels.size()), OIIO::TypeDesc::FLOAT);
-  spec.x = img.x0;
-  spec.y = img.y0;
-  spec.full_x = img.full_x0;
-  spec.full_y = img.full_y0;
-  spec.full_width = img.full_w ? img.full_w : img.width;
-  spec.full_height = img.full_h ? img.full_h : img.height;
-  spec.channelnames.clear();
-  spec.channelformats.clear();
-  for (const auto& c : img.channels) {
-    spec.channelnames.push_back(c.name);
-    spec.channelformats.push_back(c.storage == Storage::half ? OIIO::TypeDesc::HALF
-                                                             : OIIO::TypeDesc::FLOAT);
+  // "name" or "name:level", as OIIO takes it.
+  static const std::pair<const char*, Imf::Compression> kCompressions[] = {
+      {"none", Imf::NO_COMPRESSION}, {"rle", Imf::RLE_COMPRESSION},     {"zip", Imf::ZIP_COMPRESSION},
+      {"zips", Imf::ZIPS_COMPRESSION}, {"piz", Imf::PIZ_COMPRESSION},   {"pxr24", Imf::PXR24_COMPRESSION},
+      {"b44", Imf::B44_COMPRESSION},   {"b44a", Imf::B44A_COMPRESSION}, {"dwaa", Imf::DWAA_COMPRESSION},
+      {"dwab", Imf::DWAB_COMPRESSION}};
+  const std::string comp_name = opt.compression.substr(0, opt.compression.find(':'));
+  int level = 0;
+  if (auto colon = opt.compression.find(':'); colon != std::string::npos) {
+    level = std::atoi(opt.compression.c_str() + colon + 1);
   }
-  spec.alpha_channel = -1;
-  spec.z_channel = -1;
+  const auto* comp = std::find_if(std::begin(kCompressions), std::end(kCompressions),
+                                  [&](const auto& c) { return comp_name == c.first; });
+  if (comp == std::end(kCompressions)) {
+    throw IoError("--compression " + opt.compression + ": unknown EXR compression");
+  }
+  for (const auto& c : img.channels) {
+    if (c.data.size() != img.pixels()) throw IoError(f + ": channel " + c.name + ": wrong pixel count");
+  }
+
+  const Imath::Box2i data(Imath::V2i(img.x0, img.y0),
+                          Imath::V2i(img.x0 + img.width - 1, img.y0 + img.height - 1));
+  const int full_w = img.full_w ? img.full_w : img.width, full_h = img.full_h ? img.full_h : img.height;
+  const Imath::Box2i display(Imath::V2i(img.full_x0, img.full_y0),
+                             Imath::V2i(img.full_x0 + full_w - 1, img.full_y0 + full_h - 1));
+  Imf::Header header(display, data);
+  // OIIO's choices, kept: DWA on a single channel falls back to zip; zip's level defaults to 4.
+  Imf::Compression compression = comp->second;
+  if (img.channels.size() == 1 && comp_name.rfind("dwa", 0) == 0) compression = Imf::ZIP_COMPRESSION;
+  header.compression() = compression;
+  if (compression == Imf::ZIP_COMPRESSION || compression == Imf::ZIPS_COMPRESSION) {
+    header.zipCompressionLevel() = level >= 1 && level <= 9 ? level : 4;
+  }
+  if (compression == Imf::DWAA_COMPRESSION || compression == Imf::DWAB_COMPRESSION) {
+    header.dwaCompressionLevel() = level > 0 ? float(level) : 45.0f;
+    header.insert("dwaCompressionLevel", Imf::FloatAttribute(header.dwaCompressionLevel()));
+  }
+  // Float channels are written from their planes where they are. OpenEXR's writer does not
+  // convert, so half channels get a half copy, rounded by OIIO's converter as a write through
+  // OIIO rounded them.
+  Imf::FrameBuffer fb;
+  std::vector<std::vector<half>> halves;
+  for (const auto& c : img.channels) {
+    const bool is_half = c.storage == Storage::half;
+    header.channels().insert(c.name, Imf::Channel(is_half ? Imf::HALF : Imf::FLOAT));
+    if (!is_half) {
+      fb.insert(c.name, Imf::Slice::Make(Imf::FLOAT, c.data.data(), data, 4, 4 * size_t(img.width)));
+      continue;
+    }
+    auto& h = halves.emplace_back();
+    reserve_fresh(h, img.pixels());
+    h.resize(img.pixels());
+    OIIO::parallel_convert_image(1, img.width, img.height, 1, c.data.data(), OIIO::TypeDesc::FLOAT,
+                                 OIIO::AutoStride, OIIO::AutoStride, OIIO::AutoStride, h.data(),
+                                 OIIO::TypeDesc::HALF, OIIO::AutoStride, OIIO::AutoStride,
+                                 OIIO::AutoStride);
+    fb.insert(c.name, Imf::Slice::Make(Imf::HALF, h.data(), data, 2, 2 * size_t(img.width)));
+  }
+  std::string format_list;
+  OIIO::getattribute("format_list", format_list);
+  std::vector<std::string> formats;
+  for (size_t a = 0; a <= format_list.size();) {
+    size_t b = std::min(format_list.find(',', a), format_list.size());
+    formats.push_back(format_list.substr(a, b - a));
+    a = b + 1;
+  }
   for (const auto& p : img.attributes) {
     // Structural attributes are the writer's to set.
     std::string n = p.name().string();
@@ -234,9 +484,15 @@ void write_exr(const fs::path& path, const Image& img, const WriteOptions& opt) 
         n == "view") {
       continue;
     }
-    spec.extra_attribs.push_back(p);
+    put_attribute(header, p, formats);
   }
-  spec.attribute("compression", opt.compression);
+  if (!img.attributes.contains("DateTime")) header.insert("capDate", Imf::StringAttribute(now_as_exif_date()));
+  // As OIIO's writer: the pixel aspect follows the densities when both are given (in inches).
+  const float xd = img.attributes.get_float("XResolution"), yd = img.attributes.get_float("YResolution");
+  if (xd > 0 && yd > 0) {
+    header.pixelAspectRatio() = xd / yd;
+    if (img.attributes.get_string("ResolutionUnit") == "cm") header.insert("xDensity", Imf::FloatAttribute(xd / 2.54f));
+  }
 
   // Temporary file in the target's folder so the final rename is atomic.
   std::mt19937_64 rng(std::random_device{}());
@@ -251,19 +507,11 @@ void write_exr(const fs::path& path, const Image& img, const WriteOptions& opt) 
     throw IoError(f + ": cannot write: " + first_line(why));
   };
   try {
-    auto out = OIIO::ImageOutput::create("openexr");
-    if (!out) fail(OIIO::geterror());
-    if (!out->open(tmp.string(), spec)) fail(out->geterror());
-    const size_t nc = img.channels.size();
-    std::vector<float> buf(img.pixels() * nc);
-    for (size_t c = 0; c < nc; ++c) {
-      const auto& d = img.channels[c].data;
-      for (size_t i = 0; i < img.pixels(); ++i) buf[i * nc + c] = d[i];
-    }
-    if (!out->write_image(OIIO::TypeDesc::FLOAT, buf.data())) fail(out->geterror());
-    if (!out->close()) fail(out->geterror());
-  } catch (const IoError&) {
-    throw;
+    // OpenEXR converts and compresses the line blocks on its thread pool, reading the planes
+    // where they are: no interleaved copy of the image.
+    Imf::OutputFile out(tmp.c_str(), header, exr_thread_count());
+    out.setFrameBuffer(fb);
+    out.writePixels(img.height);
   } catch (const std::exception& e) {
     fail(e.what());
   }

@@ -47,8 +47,9 @@ struct ReadLimits {
   int64_t max_pixels = int64_t(1) << 28;  // 268M pixels (16K x 16K)
   int max_channels = 1024;
   int64_t max_bytes = int64_t(16) << 30;  // decoded float bytes
-  // OpenEXR's own checker (the isg-exrcheck executable at `checker`), in a child process,
-  // before pixels are decoded; 0 seconds or an empty path skips it.
+  // Pixels are decoded by OpenEXR in a child process (the isg-exrcheck executable at
+  // `checker`) given this long, so a file that crashes or hangs the library is a one-line error;
+  // 0 seconds or an empty path decodes in this process instead, for files that are trusted.
   double check_seconds = 0.0;
   std::string checker;
 };

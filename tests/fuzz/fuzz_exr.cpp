@@ -1,5 +1,5 @@
-// The whole EXR reading path isg runs: structure walk, OpenEXR's checker in a child process
-// (ISG_EXRCHECK names the isg-exrcheck binary; unset skips it), then decoding with OIIO.
+// The whole EXR reading path isg runs: structure walk, OIIO's header walk, then decoding with
+// OpenEXR in a child process (ISG_EXRCHECK names the isg-exrcheck binary; unset: in-process).
 #include <cstdlib>
 
 #include "fuzz_common.h"

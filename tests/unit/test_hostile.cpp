@@ -204,26 +204,51 @@ TEST(Hostile, PartsThatDisagree) {
   expect_rejected(dir / "window.exr", "different data window");
 }
 
-TEST(Hostile, CheckerCrashOrHangBecomesAnError) {
-  // A stand-in checker that hangs: the parent kills it after the time limit.
+// The decoding child's ways of failing: each is one line naming the file, and nothing is copied.
+TEST(Hostile, DecoderCrashHangOrExhaustionBecomesAnError) {
   auto dir = isg::test::temp_dir("hang");
-  auto script = dir / "hang.sh";
-  std::ofstream(script) << "#!/bin/sh\nsleep 30\n";
-  fs::permissions(script, fs::perms::owner_all);
-  isg::io::write_exr(dir / "a.exr", isg::test::contract_aovs(8, 8), {});
-  try {
-    isg::io::check_exr_with_library(dir / "a.exr", script.string(), 0.3, 1 << 30);
-    FAIL();
-  } catch (const IoError& e) {
-    EXPECT_NE(std::string(e.what()).find("did not finish"), std::string::npos) << e.what();
-  }
+  auto img = isg::test::contract_aovs(8, 8);
+  isg::io::write_exr(dir / "a.exr", img, {});
+  isg::io::ExrDecodeRequest req{0, 0, 8, 8, {}};
+  for (const auto& c : img.channels) req.planes.push_back({0, c.name});
+  std::vector<float> sink(req.pixels());
+  int copied = 0;
+  auto plane = [&](size_t, const void* values) {
+    ++copied;
+    std::memcpy(sink.data(), values, sink.size() * 4);
+  };
+  auto expect_error = [&](const std::string& helper, double seconds, uint64_t memory,
+                          const std::string& needle) {
+    try {
+      isg::io::decode_exr_in_child(dir / "a.exr", helper, req, seconds, memory, plane);
+      ADD_FAILURE() << helper << ": no error";
+    } catch (const IoError& e) {
+      std::string m = e.what();
+      EXPECT_NE(m.find("a.exr"), std::string::npos) << m;
+      EXPECT_NE(m.find(needle), std::string::npos) << m;
+      EXPECT_EQ(m.find('\n'), std::string::npos) << m;
+    }
+    EXPECT_EQ(copied, 0) << helper;
+  };
+  // A stand-in decoder that hangs: the parent kills it after the time limit.
+  auto hang = dir / "hang.sh";
+  std::ofstream(hang) << "#!/bin/sh\nsleep 30\n";
+  fs::permissions(hang, fs::perms::owner_all);
+  expect_error(hang.string(), 0.3, 1 << 30, "did not finish");
+  // One killed by a signal.
   auto crash = dir / "crash.sh";
   std::ofstream(crash) << "#!/bin/sh\nkill -SEGV $$\n";
   fs::permissions(crash, fs::perms::owner_all);
-  try {
-    isg::io::check_exr_with_library(dir / "a.exr", crash.string(), 5, 1 << 30);
-    FAIL();
-  } catch (const IoError& e) {
-    EXPECT_NE(std::string(e.what()).find("crashed"), std::string::npos) << e.what();
-  }
+  expect_error(crash.string(), 5, 1 << 30, "crashed (signal 11)");
+  // The real decoder under a memory limit smaller than what the planes need.
+  req.width = req.height = 4096;
+  expect_error(ISG_EXRCHECK, 10, 256 << 20, "out of memory");
+  // And the real decoder asked for a channel the file does not have.
+  req.width = req.height = 8;
+  req.planes.push_back({0, "nonesuch"});
+  expect_error(ISG_EXRCHECK, 10, 1 << 30, "no channel nonesuch");
+  // A good request through the real decoder gets every plane.
+  req.planes.pop_back();
+  isg::io::decode_exr_in_child(dir / "a.exr", ISG_EXRCHECK, req, 10, 1 << 30, plane);
+  EXPECT_EQ(copied, int(req.planes.size()));
 }

@@ -3,7 +3,10 @@
 #include <OpenImageIO/imageio.h>
 
 #include <cmath>
+#include <cstring>
 #include <fstream>
+#include <map>
+#include <random>
 
 #include "io/image.h"
 #include "support/images.h"
@@ -150,4 +153,185 @@ TEST(Image, WritesAreAtomicAndRespectNoClobber) {
   expect_io_error([&] { isg::io::write_exr(dir / "x.exr", img, {"lzma", false}); }, "--compression");
   EXPECT_FALSE(fs::exists(dir / "x.exr"));
   EXPECT_EQ(std::distance(fs::directory_iterator(dir), fs::directory_iterator()), 1);
+}
+
+namespace {
+
+// Random bit patterns of T: every value a type can hold, NaNs, infinities and denormals included.
+template <class T>
+std::vector<T> random_bits(size_t n, unsigned seed) {
+  std::mt19937 rng(seed);
+  std::vector<T> v(n);
+  for (auto& x : v) {
+    uint32_t b = rng();
+    std::memcpy(&x, &b, sizeof x);
+  }
+  return v;
+}
+
+// One part of `nchannels` channels of type `t`, from a buffer of that type.
+struct PartOf {
+  OIIO::ImageSpec spec;
+  std::vector<char> pixels;
+};
+
+}  // namespace
+
+// Three parts (half, float, uint channels) with an offset data window, read through OpenEXR in
+// the child and in-process: every value must equal OIIO's own read, bit for bit, in OIIO's
+// channel order (R, G, B, A first, which is not the file's order).
+TEST(Image, MultiPartHalfFloatUintReadBitExactAsOIIOReadsIt) {
+  auto dir = isg::test::temp_dir("bitexact");
+  const std::string path = (dir / "mp.exr").string();
+  const int w = 37, h = 21;
+  const size_t n = size_t(w) * h;
+  std::vector<PartOf> parts;
+  auto add = [&](OIIO::TypeDesc t, std::vector<std::string> names, const char* part_name,
+                 std::vector<char> px) {
+    OIIO::ImageSpec s(w, h, int(names.size()), t);
+    s.x = 3;
+    s.y = -2;
+    s.full_x = 0;
+    s.full_y = 0;
+    s.full_width = 48;
+    s.full_height = 24;
+    s.channelnames = names;
+    s.attribute("name", part_name);
+    s.attribute("compression", "zip");
+    parts.push_back({s, std::move(px)});
+  };
+  auto bytes = [](const auto& v) {
+    return std::vector<char>(reinterpret_cast<const char*>(v.data()),
+                             reinterpret_cast<const char*>(v.data() + v.size()));
+  };
+  add(OIIO::TypeDesc::HALF, {"R", "G", "B", "A", "Y"}, "beauty", bytes(random_bits<uint16_t>(n * 5, 1)));
+  add(OIIO::TypeDesc::FLOAT, {"P.X", "P.Y", "P.Z"}, "position", bytes(random_bits<float>(n * 3, 2)));
+  add(OIIO::TypeDesc::UINT, {"id"}, "ids", bytes(random_bits<uint32_t>(n, 3)));
+  {
+    auto out = OIIO::ImageOutput::create(path);
+    std::vector<OIIO::ImageSpec> specs;
+    for (const auto& p : parts) specs.push_back(p.spec);
+    ASSERT_TRUE(out->open(path, int(specs.size()), specs.data())) << out->geterror();
+    for (size_t i = 0; i < parts.size(); ++i) {
+      if (i) {
+        ASSERT_TRUE(out->open(path, parts[i].spec, OIIO::ImageOutput::AppendSubimage));
+      }
+      ASSERT_TRUE(out->write_image(parts[i].spec.format, parts[i].pixels.data())) << out->geterror();
+    }
+    ASSERT_TRUE(out->close());
+  }
+  // OIIO's read: each part as interleaved floats, channels in its order.
+  std::vector<std::string> names;
+  std::vector<std::vector<float>> expected;
+  {
+    auto in = OIIO::ImageInput::open(path);
+    ASSERT_TRUE(in);
+    for (int s = 0; in->seek_subimage(s, 0); ++s) {
+      const auto spec = in->spec();
+      std::vector<float> buf(n * size_t(spec.nchannels));
+      ASSERT_TRUE(in->read_image(s, 0, 0, spec.nchannels, OIIO::TypeDesc::FLOAT, buf.data()));
+      for (int c = 0; c < spec.nchannels; ++c) {
+        names.push_back(spec.channel_name(c));
+        auto& e = expected.emplace_back(n);
+        for (size_t i = 0; i < n; ++i) e[i] = buf[i * size_t(spec.nchannels) + size_t(c)];
+      }
+    }
+  }
+  ASSERT_EQ(names.size(), 9u);
+  EXPECT_EQ(names[0], "R");  // the file's own order starts with A
+  isg::io::ReadLimits child;
+  child.check_seconds = 10;
+  child.checker = ISG_EXRCHECK;
+  for (const auto& limits : {child, isg::io::ReadLimits{}}) {
+    auto img = isg::io::read_exr(path, limits);
+    EXPECT_EQ(img.parts, 3);
+    EXPECT_EQ(img.x0, 3);
+    EXPECT_EQ(img.y0, -2);
+    ASSERT_EQ(img.channel_names(), names);
+    for (size_t c = 0; c < names.size(); ++c) {
+      ASSERT_EQ(img.channels[c].data.size(), n);
+      EXPECT_EQ(std::memcmp(img.channels[c].data.data(), expected[c].data(), n * 4), 0)
+          << names[c] << (limits.check_seconds > 0 ? " (child)" : " (in-process)");
+    }
+    EXPECT_EQ(img.find("G")->storage, isg::io::Storage::half);
+    EXPECT_EQ(img.find("P.Y")->storage, isg::io::Storage::f32);
+    EXPECT_EQ(img.find("id")->storage, isg::io::Storage::other);
+  }
+}
+
+// Every attribute type an input can bring comes out as OIIO's EXR writer would write it: the
+// same file written through OIIO reads back with the same attributes.
+TEST(Image, WriteKeepsAttributesAsOIIOWritesThem) {
+  auto dir = isg::test::temp_dir("attrs");
+  auto img = isg::test::contract_aovs(6, 5);
+  auto& a = img.attributes;
+  a.attribute("isg:note", "a string");
+  a.attribute("isg:count", 7);
+  a.attribute("isg:ratio", 0.25f);
+  a.attribute("isg:precise", OIIO::TypeDesc::DOUBLE, std::vector<double>{1.0 / 3}.data());
+  const float m44[16] = {1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12, 13, 14, 15, 16};
+  a.attribute("worldtocamera", OIIO::TypeMatrix, m44);
+  a.attribute("isg:m33", OIIO::TypeMatrix33, m44);
+  const double d44[16] = {1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0.5, 0.25, 0.125, 1};
+  a.attribute("isg:m44d", OIIO::TypeDesc(OIIO::TypeDesc::DOUBLE, OIIO::TypeDesc::MATRIX44), d44);
+  a.attribute("isg:v2f", OIIO::TypeVector2, m44);
+  a.attribute("isg:v3f", OIIO::TypeVector, m44);
+  const int ints[4] = {-1, 2, 30, 40};
+  a.attribute("isg:v2i", OIIO::TypeDesc(OIIO::TypeDesc::INT, OIIO::TypeDesc::VEC2), ints);
+  a.attribute("isg:v3i", OIIO::TypeDesc(OIIO::TypeDesc::INT, OIIO::TypeDesc::VEC3), ints);
+  a.attribute("isg:box", OIIO::TypeDesc(OIIO::TypeDesc::INT, OIIO::TypeDesc::VEC2, 2), ints);
+  a.attribute("isg:v3d", OIIO::TypeDesc(OIIO::TypeDesc::DOUBLE, OIIO::TypeDesc::VEC3), d44);
+  a.attribute("isg:floats", OIIO::TypeDesc(OIIO::TypeDesc::FLOAT, 5), m44);
+  const char* strs[3] = {"x", "y", "z"};
+  a.attribute("isg:strings", OIIO::TypeDesc(OIIO::TypeDesc::STRING, 3), strs);
+  const int fps[2] = {24000, 1001};
+  a.attribute("FramesPerSecond", OIIO::TypeRational, fps);
+  const unsigned tc[2] = {0x01020304, 0};
+  a.attribute("smpte:TimeCode", OIIO::TypeTimeCode, tc);
+  a.attribute("DateTime", "2024:01:02 03:04:05");
+  a.attribute("ImageDescription", "described");
+  a.attribute("Copyright", "us");
+  a.attribute("oiio:ConstantColor", "0.5");
+  a.attribute("oiio:internal", "dropped");
+  a.attribute("tiff:Compression", 5);
+  a.attribute("Exif:ExposureTime", 0.01f);
+  a.attribute("XResolution", 300.0f);
+  a.attribute("YResolution", 150.0f);
+  a.attribute("ResolutionUnit", "cm");
+
+  isg::io::write_exr(dir / "ours.exr", img, {"zip", false});
+  // The same image through OIIO's writer, as write_exr did before it wrote with OpenEXR.
+  {
+    OIIO::ImageSpec spec(img.width, img.height, int(img.channels.size()), OIIO::TypeDesc::FLOAT);
+    spec.channelnames = img.channel_names();
+    spec.channelformats.clear();
+    spec.alpha_channel = spec.z_channel = -1;
+    spec.extra_attribs = a;
+    spec.attribute("compression", "zip");
+    std::vector<float> px(img.pixels() * img.channels.size());
+    for (size_t c = 0; c < img.channels.size(); ++c)
+      for (size_t i = 0; i < img.pixels(); ++i) px[i * img.channels.size() + c] = img.channels[c].data[i];
+    auto out = OIIO::ImageOutput::create("openexr");
+    ASSERT_TRUE(out->open((dir / "oiio.exr").string(), spec));
+    ASSERT_TRUE(out->write_image(OIIO::TypeDesc::FLOAT, px.data()));
+    ASSERT_TRUE(out->close());
+  }
+  auto ours = isg::io::read_exr_header(dir / "ours.exr").attributes;
+  auto theirs = isg::io::read_exr_header(dir / "oiio.exr").attributes;
+  auto describe = [](const OIIO::ParamValueList& l) {
+    std::map<std::string, std::string> m;
+    for (const auto& p : l) m[p.name().string()] = p.type().c_str() + std::string(" ") + p.get_string(0);
+    return m;
+  };
+  EXPECT_EQ(describe(ours), describe(theirs));
+  // And the attributes are there at all (not both dropped).
+  auto m = describe(ours);
+  for (const char* k : {"isg:note", "isg:count", "isg:precise", "worldToCamera", "isg:m33", "isg:m44d",
+                        "isg:v3i", "isg:box", "isg:v3d", "isg:floats", "isg:strings", "FramesPerSecond",
+                        "smpte:TimeCode", "DateTime", "ImageDescription", "Copyright", "oiio:ConstantColor",
+                        "Exif:ExposureTime", "XResolution"}) {
+    EXPECT_TRUE(m.count(k)) << k;
+  }
+  EXPECT_FALSE(m.count("oiio:internal"));
+  EXPECT_FALSE(m.count("tiff:Compression"));
 }
