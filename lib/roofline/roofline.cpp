@@ -94,6 +94,7 @@ struct Bench {
   int w, h;
   GatherPass pass;
   gpu::Buffer src, dst;
+  // Positive sizes: check() or roofline_taps_per_second saw to it before the buffers.
   Bench(gpu::Context& c, int width, int height)
       : ctx(c),
         w(width),
@@ -101,7 +102,6 @@ struct Bench {
         pass(c),
         src(c, 16 * VkDeviceSize(width) * VkDeviceSize(height), "roofline.src"),
         dst(c, 16 * VkDeviceSize(width) * VkDeviceSize(height), "roofline.dst") {
-    if (width < 1 || height < 1) throw std::invalid_argument("roofline: empty image");
     auto img = test_image(w, h);
     src.upload(std::span<const float>(img));
   }
@@ -125,12 +125,17 @@ gpu::Buffer upload_offsets(gpu::Context& ctx, const std::vector<int32_t>& o) {
 
 }  // namespace
 
-Report measure(gpu::Context& ctx, const Options& opt,
-               const std::function<void(const Row&)>& progress) {
+void check(const Options& opt) {
+  if (opt.width < 1 || opt.height < 1) throw std::invalid_argument("roofline: empty image");
   if (opt.repeats < 1) throw std::invalid_argument("roofline: repeats must be >= 1");
-  // Checked before the device spends seconds on the first rows.
   for (int taps : opt.taps)
     for (int r : opt.radii) lattice_offsets(taps, r);
+}
+
+Report measure(gpu::Context& ctx, const Options& opt,
+               const std::function<void(const Row&)>& progress) {
+  // Before the device spends seconds on the first rows.
+  check(opt);
   Bench b(ctx, opt.width, opt.height);
   Report rep{ctx.info().name, ctx.info().type_name, opt.width, opt.height,
              b.pass.local_x(), b.pass.local_y(), ctx.timestamps(), {}};
@@ -151,6 +156,7 @@ Report measure(gpu::Context& ctx, const Options& opt,
 
 double roofline_taps_per_second(gpu::Context& ctx, int w, int h) {
   constexpr int kTaps = 49, kRadius = 16;
+  if (w < 1 || h < 1) throw std::invalid_argument("roofline: empty image");
   Bench b(ctx, w, h);
   auto offsets = upload_offsets(ctx, lattice_offsets(kTaps, kRadius));
   return double(w) * h * kTaps / (b.time_ms(offsets, kTaps) * 1e-3);

@@ -70,6 +70,9 @@ struct Report {
   std::vector<Row> rows;
 };
 
+// Throws std::invalid_argument where `opt` cannot be measured (taps not an odd square, ...).
+void check(const Options& opt);
+
 // Every taps x radius of `opt`, in that order; `progress` (if set) sees each row as it lands.
 Report measure(gpu::Context& ctx, const Options& opt,
                const std::function<void(const Row&)>& progress = {});
