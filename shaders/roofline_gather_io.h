@@ -2,8 +2,8 @@
 #define ROOFLINE_GATHER_IO_H
 #include "isg_io.h"
 ISG_IO_BEGIN
-// Workgroup shape: fastest of 8x8, 16x16, 32x1, 64x1, 8x4, 4x4 on lavapipe (see
-// lib/roofline/roofline.h for the figures).
+// Workgroup shape: 8x8 was at the top with 16x16 of those tried on lavapipe (lib/roofline/roofline.h
+// has the figures); 4x4 is clearly slower, the rest within the shared machine's noise.
 #define ROOFLINE_LOCAL_X 8
 #define ROOFLINE_LOCAL_Y 8
 // The roofline gather (issue 18): dst = Σ w·src.rgb / Σ w, Σ w over `taps` integer offsets,

@@ -2,8 +2,12 @@
 // read from a storage buffer, one exp range weight — timed on the device in taps/s, the
 // yardstick the isg gather passes are measured against. Not part of the effect pipeline.
 //
-// Workgroup shapes tried on lavapipe (2 cores, 1920x1080, 49 taps, radius 16), see
-// shaders/roofline_gather_io.h: filled in below after measuring.
+// Workgroup shapes tried on lavapipe (llvmpipe, LLVM 15, 256-bit; 2 cores shared with other
+// builds, load 4-8, so best of 2 rounds of 8 dispatches, 960x540, 49 taps), M taps/s at radius
+// 16 / 64: 8x8 187/122, 16x16 184/141, 32x1 136/119, 64x1 126/122, 8x4 152/110, 4x4 97/91,
+// 16x4 130/113, 16x2 129/142, 32x2 139/125. On the quiet machine 8x8 gave 390 M taps/s at
+// 1920x1080 (16x4 the same); the load, not the shape, moves the rest. 8x8 is kept
+// (shaders/roofline_gather_io.h).
 #pragma once
 
 #include <cstdint>
