@@ -81,7 +81,7 @@ void check(const Options& opt);
 Report measure(gpu::Context& ctx, const Options& opt,
                const std::function<void(const Row&)>& progress = {});
 
-// One quick measurement (49 taps, radius 16, a single timed dispatch after none as warm-up) of
+// One quick measurement (49 taps, radius 16, one timed dispatch and no warm-up) of
 // a w x h image, for `isg run --timings` to set a frame's passes against: taps per second.
 double roofline_taps_per_second(gpu::Context& ctx, int w, int h);
 
