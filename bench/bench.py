@@ -2,7 +2,7 @@
 """The benchmark (issue 9), one command for every page:
 
     python3 bench/bench.py [--build build] [--cases ../shared/cases] [--repeat 2]
-                           [--skip stability,shadowmap,scaling] [--from-json]
+                           [--skip stability,shadowmap,scaling,roofline] [--from-json]
 
 1. Speed against error, this page (docs/benchmark.md): every effect x method x setting on every
    ../shared/cases/* that has ref/drt/timings.json and on isg-synth contact, stack, gloss and dof
@@ -18,6 +18,8 @@
    maps, half floats, NaN/Inf: every method's error on each)
 3. bench/shadowmap_methods.py -> docs/benchmark/shadowmap_methods.md
 4. bench/scaling.py    -> docs/benchmark/scaling.md (pixels, samples, map size, kernel radius)
+5. bench/roofline.py   -> docs/benchmark/roofline.md (a plain cross-bilateral gather's taps/s,
+   the yardstick for the gather passes)
 
 --from-json rewrites every page from bench/out/*.json without running anything."""
 import argparse, json, math, os, platform, re, subprocess, sys
@@ -34,7 +36,7 @@ ap.add_argument("--synth-size", default="480x270")
 ap.add_argument("--synth-spp", type=int, default=256, help="isg-synth reference samples per pixel")
 ap.add_argument("--only", default="", help="comma-separated case names (e.g. contact,synth-gloss): "
                 "run only these, for a quick look (the page then shows only them)")
-ap.add_argument("--skip", default="", help="comma-separated: pareto, stability, shadowmap, scaling")
+ap.add_argument("--skip", default="", help="comma-separated: pareto, stability, shadowmap, scaling, roofline")
 ap.add_argument("--from-json", action="store_true", help="rewrite the pages from bench/out/*.json")
 a = ap.parse_args()
 skip = set(filter(None, a.skip.split(",")))
@@ -324,7 +326,7 @@ def report():
          "doing nothing. ★ = on the Pareto front (no run both faster and lower in composite error).", "",
          "Companion pages: [numerical stability](benchmark/stability.md) · "
          "[shadow-map methods against isg](benchmark/shadowmap_methods.md) · "
-         "[scaling](benchmark/scaling.md).", "",
+         "[scaling](benchmark/scaling.md) · [roofline gather](benchmark/roofline.md).", "",
          "## Summary: per case, isg's best run and its fastest good one, against the renderer", "",
          "*best*: the lowest composite error of any method and setting; *fastest ≤ ½*: the fastest run "
          "that at least halves doing nothing's composite error. *gap closed*: (nothing − run) / "
@@ -389,7 +391,8 @@ report()
 common = ["--build", a.build]
 for name, script, extra in (("stability", "stability.py", ["--cases", a.cases]),
                             ("shadowmap", "shadowmap_methods.py", ["--cases", a.cases]),
-                            ("scaling", "scaling.py", [])):
+                            ("scaling", "scaling.py", []),
+                            ("roofline", "roofline.py", [])):
     if name in skip:
         continue
     args = [sys.executable, os.path.join(HERE, script)] + (["--from-json"] if a.from_json else common + extra)

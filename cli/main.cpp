@@ -22,6 +22,7 @@
 #include "io/scene.h"
 #include "metrics/compare.h"
 #include "plan/plan.h"
+#include "roofline/roofline.h"
 #include "run/job.h"
 #include "run/run.h"
 
@@ -546,6 +547,47 @@ int cmd_compare(const std::string& a_path, const std::string& b_path, const std:
   return 0;
 }
 
+// ---- isg roofline ----
+
+int cmd_roofline(const isg::roofline::Options& opt, const std::string& device, bool as_json) {
+  isg::roofline::check(opt);
+  isg::gpu::ContextOptions copt;
+  copt.device = device;
+  copt.on_message = [](const std::string& m) { std::cerr << "isg: vulkan: " << m << "\n"; };
+  isg::gpu::Context ctx(copt);
+  auto line = [](const isg::roofline::Row& r) {
+    std::ostringstream o;
+    o << std::right << std::setw(5) << r.taps << std::setw(8) << r.radius << std::setw(12)
+      << std::fixed << std::setprecision(1) << r.taps_per_second / 1e6 << std::setw(12)
+      << std::setprecision(2) << r.best_ms;
+    return o.str();
+  };
+  if (!as_json) {
+    std::cout << "device: " << ctx.info().name << " (" << ctx.info().type_name << ")\n"
+              << "roofline gather, " << opt.width << "x" << opt.height << ", best of "
+              << opt.repeats << " dispatches after a warm-up\n"
+              << " taps  radius  Mtaps/s     GPU ms\n";
+  }
+  auto rep = isg::roofline::measure(ctx, opt, [&](const isg::roofline::Row& r) {
+    if (!as_json) std::cout << line(r) << std::endl;
+  });
+  if (!as_json) {
+    std::cout << "workgroup " << rep.local_x << "x" << rep.local_y << "; "
+              << (rep.timestamps ? "GPU time from timestamp queries" : "no timestamps: wall time per submission") << "\n";
+    return kOk;
+  }
+  json j{{"device", rep.device}, {"device_type", rep.device_type}, {"width", rep.width},
+         {"height", rep.height}, {"workgroup", {rep.local_x, rep.local_y}},
+         {"timing", rep.timestamps ? "timestamp queries" : "wall time per submission"},
+         {"repeats", opt.repeats}, {"rows", json::array()}};
+  for (const auto& r : rep.rows) {
+    j["rows"].push_back({{"taps", r.taps}, {"radius", r.radius}, {"ms", r.ms},
+                         {"best_ms", r.best_ms}, {"taps_per_second", r.taps_per_second}});
+  }
+  std::cout << j.dump(2) << "\n";
+  return kOk;
+}
+
 int cmd_devices() {
   auto devs = isg::gpu::list_devices();
   for (const auto& d : devs) {
@@ -652,6 +694,20 @@ int main(int argc, char** argv) {
   auto* params_cmd = app.add_subcommand("params", "list every parameter with its default, range and help");
   params_cmd->add_flag("--markdown", params_md, "as the Markdown table in docs/parameters.md");
 
+  isg::roofline::Options rl;
+  std::string rl_device;
+  bool rl_json = false;
+  auto* roofline = app.add_subcommand(
+      "roofline", "time a plain cross-bilateral gather (the yardstick for the gather passes), in taps/s");
+  roofline->add_option("--width", rl.width, "image width")->check(CLI::Range(1, 65536));
+  roofline->add_option("--height", rl.height, "image height")->check(CLI::Range(1, 65536));
+  roofline->add_option("--taps", rl.taps, "taps per pixel, odd squares (default 49,81)")->delimiter(',');
+  roofline->add_option("--radius", rl.radii, "gather radii in pixels (default 4,8,16,32,64)")->delimiter(',');
+  roofline->add_option("--repeats", rl.repeats, "timed dispatches per row after a warm-up; the best counts")
+      ->check(CLI::Range(1, 1000));
+  roofline->add_option("--device", rl_device, "device index or name (see `isg devices`)");
+  roofline->add_flag("--json", rl_json, "one JSON object");
+
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
@@ -664,6 +720,7 @@ int main(int argc, char** argv) {
     if (*devices) return cmd_devices();
     if (*presets) return cmd_presets();
     if (*params_cmd) return cmd_params(params_md);
+    if (*roofline) return cmd_roofline(rl, rl_device, rl_json);
   } catch (const std::bad_alloc&) {
     std::cerr << "isg: error: out of memory\n";
     return 1;
