@@ -2,7 +2,7 @@
 """The benchmark (issue 9), one command for every page:
 
     python3 bench/bench.py [--build build] [--cases ../shared/cases] [--repeat 2]
-                           [--skip stability,shadowmap,scaling,roofline] [--from-json]
+                           [--skip stability,shadowmap,scaling,roofline,speed] [--from-json]
 
 1. Speed against error, this page (docs/benchmark.md): every effect x method x setting on every
    ../shared/cases/* that has ref/drt/timings.json and on isg-synth contact, stack, gloss and dof
@@ -20,6 +20,8 @@
 4. bench/scaling.py    -> docs/benchmark/scaling.md (pixels, samples, map size, kernel radius)
 5. bench/roofline.py   -> docs/benchmark/roofline.md (a plain cross-bilateral gather's taps/s,
    the yardstick for the gather passes)
+6. bench/speed.py      -> docs/benchmark/speed.md (1080p `isg run` against `oiiotool in -o out`,
+   per-pass GPU time, each gather pass's share of the roofline)
 
 --from-json rewrites every page from bench/out/*.json without running anything."""
 import argparse, json, math, os, platform, re, subprocess, sys
@@ -36,7 +38,7 @@ ap.add_argument("--synth-size", default="480x270")
 ap.add_argument("--synth-spp", type=int, default=256, help="isg-synth reference samples per pixel")
 ap.add_argument("--only", default="", help="comma-separated case names (e.g. contact,synth-gloss): "
                 "run only these, for a quick look (the page then shows only them)")
-ap.add_argument("--skip", default="", help="comma-separated: pareto, stability, shadowmap, scaling, roofline")
+ap.add_argument("--skip", default="", help="comma-separated: pareto, stability, shadowmap, scaling, roofline, speed")
 ap.add_argument("--from-json", action="store_true", help="rewrite the pages from bench/out/*.json")
 a = ap.parse_args()
 skip = set(filter(None, a.skip.split(",")))
@@ -326,7 +328,7 @@ def report():
          "doing nothing. ★ = on the Pareto front (no run both faster and lower in composite error).", "",
          "Companion pages: [numerical stability](benchmark/stability.md) · "
          "[shadow-map methods against isg](benchmark/shadowmap_methods.md) · "
-         "[scaling](benchmark/scaling.md) · [roofline gather](benchmark/roofline.md).", "",
+         "[scaling](benchmark/scaling.md) · [roofline gather](benchmark/roofline.md) · [speed against file I/O](benchmark/speed.md).", "",
          "## Summary: per case, isg's best run and its fastest good one, against the renderer", "",
          "*best*: the lowest composite error of any method and setting; *fastest ≤ ½*: the fastest run "
          "that at least halves doing nothing's composite error. *gap closed*: (nothing − run) / "
@@ -392,7 +394,8 @@ common = ["--build", a.build]
 for name, script, extra in (("stability", "stability.py", ["--cases", a.cases]),
                             ("shadowmap", "shadowmap_methods.py", ["--cases", a.cases]),
                             ("scaling", "scaling.py", []),
-                            ("roofline", "roofline.py", [])):
+                            ("roofline", "roofline.py", []),
+                            ("speed", "speed.py", [])):
     if name in skip:
         continue
     args = [sys.executable, os.path.join(HERE, script)] + (["--from-json"] if a.from_json else common + extra)

@@ -177,7 +177,7 @@ void warn_nonfinite(const isg::run::LoadedFrame& f) {
   }
 }
 
-void print_timings(const isg::gpu::Context& ctx, const isg::run::LoadedFrame& f,
+void print_timings(isg::gpu::Context& ctx, const isg::run::LoadedFrame& f,
                    const isg::run::Stats& st, double init_ms, double write_ms, double total_ms) {
   std::cout << std::fixed << std::setprecision(3);
   std::cout << "device: " << ctx.info().name << " (" << ctx.info().type_name << ")\n";
@@ -212,12 +212,18 @@ void print_timings(const isg::gpu::Context& ctx, const isg::run::LoadedFrame& f,
               << " pixels searched and gathered, " << sh.clamped_pixels
               << " needed a radius over shadows.max_radius (clamped)\n";
   }
+  // The gather passes against the roofline (a plain cross-bilateral gather, `isg roofline`),
+  // measured now on the same device at the frame's size.
+  double roof = 0;
+  if (!st.gathers.empty())
+    roof = isg::roofline::roofline_taps_per_second(ctx, std::max(f.img.width, 64), std::max(f.img.height, 64));
   for (const auto& g : st.gathers) {
     double ms = 0;
     for (const auto& t : st.passes) ms += t.name == g.pass ? t.ms : 0.0;
-    const double samples = double(g.pixels) * double(g.samples_per_pixel);
+    const double rate = ms > 0 ? double(g.pixels) * double(g.samples_per_pixel) / (ms * 1e-3) : 0.0;
     std::cout << g.pass << ": " << g.pixels << " pixels x " << g.samples_per_pixel << " samples, "
-              << (ms > 0 ? samples / (ms * 1e3) : 0.0) << " M samples/s\n";
+              << rate * 1e-6 << " M samples/s = " << (roof > 0 ? 100.0 * rate / roof : 0.0)
+              << "% of the roofline (" << roof * 1e-6 << " M taps/s, isg roofline)\n";
   }
   for (const auto& sm : st.shadowmaps) {
     std::cout << "shadows[" << sm.light << "] (" << sm.method << "): " << sm.skipped_fraction * 100.0
