@@ -6,6 +6,7 @@
 
 #include "effects/shadows/isg.h"
 #include "effects/shadows/shadowmap.h"
+#include "reflections_isg_io.h"
 
 namespace isg::plan {
 
@@ -275,7 +276,8 @@ Plan make_plan(const io::Roles& roles, const io::Scene& scene, const params::Par
       reads = {"refl.pack.geo", "refl.pack.color"};
       if (roles.has("roughness") && !plan.refl->roughness_override) reads.push_back("roughness");
       need("refl.glossy", 3, false);
-      const uint64_t tiles = uint64_t((width + 15) / 16) * uint64_t((height + 15) / 16);
+      const uint64_t tiles = uint64_t((width + REFL_TILE - 1) / REFL_TILE) *
+                             uint64_t((height + REFL_TILE - 1) / REFL_TILE);
       plan.resources.push_back({"refl.tiles", 1, false, tiles * sizeof(float)});
       plan.passes.push_back({"reflections.isg", "reflections." + st.method, reads,
                              {"refl.glossy", "refl.tiles"}, ""});
