@@ -26,6 +26,19 @@ struct Window {
   uint32_t packed_origin() const { return uint32_t(x0) | (uint32_t(y0) << 16); }
 };
 
+// The eye as the float nearest it (eye_x..) and the remainder (eye_lo_x..), into a pass's push
+// constants: the shaders form P − eye as (P − eye_hi) − eye_lo (shaders/isg_view.h), exact by
+// Sterbenz near the eye, so a scene far from the origin keeps the digits it has in double.
+template <class Push>
+void set_split_eye(Push& pc, const std::array<double, 3>& eye) {
+  pc.eye_x = float(eye[0]);
+  pc.eye_y = float(eye[1]);
+  pc.eye_z = float(eye[2]);
+  pc.eye_lo_x = float(eye[0] - double(pc.eye_x));
+  pc.eye_lo_y = float(eye[1] - double(pc.eye_y));
+  pc.eye_lo_z = float(eye[2] - double(pc.eye_z));
+}
+
 struct PinholeView {
   double f_px = 1.0;                              // (height / 2) / tan(yfov / 2)
   std::array<double, 3> eye{0, 0, 0};             // camera centre, world

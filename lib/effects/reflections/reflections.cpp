@@ -296,14 +296,7 @@ shaders::ReflIsgPush ReflectionsPass::push(uint32_t w, uint32_t h, bool has_posi
   pc.inv_sigma = float(1.0 / s_.sigma);
   pc.inv_scene_radius = float(1.0 / s_.scene_radius);
   pc.f_px = float(s_.f_px);
-  // The eye as a float and its remainder: reflections.pack forms P − eye without losing the
-  // digits a scene far from the origin keeps in double.
-  pc.eye_x = float(s_.eye[0]);
-  pc.eye_y = float(s_.eye[1]);
-  pc.eye_z = float(s_.eye[2]);
-  pc.eye_lo_x = float(s_.eye[0] - double(pc.eye_x));
-  pc.eye_lo_y = float(s_.eye[1] - double(pc.eye_y));
-  pc.eye_lo_z = float(s_.eye[2] - double(pc.eye_z));
+  set_split_eye(pc, s_.eye);
   const auto& m = s_.rot;
   pc.r00 = float(m[0]), pc.r01 = float(m[1]), pc.r02 = float(m[2]);
   pc.r10 = float(m[3]), pc.r11 = float(m[4]), pc.r12 = float(m[5]);

@@ -82,13 +82,7 @@ struct Ctx {
     const double t = dot(d, s.light_normal) / c;
     return len3({d[0] - t * wl[0], d[1] - t * wl[1], d[2] - t * wl[2]});
   }
-  // Point taps for the search (issue 18): the pixel holding q (pixel centres at +0.5), or -1
-  // outside the image.
-  long long tap(V2 q) const {
-    const long long x = (long long)std::floor(q[0]), y = (long long)std::floor(q[1]);
-    return x >= 0 && y >= 0 && x < in.w && y < in.h ? y * in.w + x : -1;
-  }
-  // Bilinear taps for the gather of the shadow bits; taps outside the image get weight 0.
+  // Bilinear taps of q (pixel centres at +0.5); taps outside the image get weight 0.
   void taps(V2 q, size_t t[4], double bw[4]) const {
     double x = q[0] - 0.5, y = q[1] - 0.5;
     double x0 = std::floor(x), y0 = std::floor(y), fx = x - x0, fy = y - y0;
@@ -251,20 +245,24 @@ std::vector<float> shadows_isg_reference(const ShadowInputs& in, const ShadowSet
           for (int k = 0; k < s.grid_search * s.grid_search; ++k) {
             const V2 cs = concentric(k, s.grid_search);
             const V2 q = {p0[0] + Rp * (ca * cs[0] - sa * cs[1]), p0[1] + Rp * (sa * cs[0] + ca * cs[1])};
-            const long long t = c.tap(q);
-            if (t < 0 || !c.fg(size_t(t))) continue;
-            const double sj = in.shadow[t], oj = in.occluder[t];
-            if (!(sj < 1.0 && oj > 0.0)) continue;
-            const V3 Pt = c.position(size_t(t));
-            double r = c.range_l(len3(sub(Pt, P0))) * (1.0 - sj);
-            const double l = c.across(sub(Pt, P0), wl);
-            if (s.search_reach) {
-              // PCSS's blocker test in image space: the occluder's own penumbra reaches p_0.
-              const double Rt = c.penumbra(oj, len3(sub(s.light, Pt)));
-              r *= std::clamp((SHADOWS_ISG_REACH * Rt + pix - l) / pix, 0.0, 1.0);
+            size_t t[4];
+            double bw[4];
+            c.taps(q, t, bw);
+            for (int j = 0; j < 4; ++j) {
+              if (bw[j] == 0.0 || !c.fg(t[j])) continue;
+              const double sj = in.shadow[t[j]], oj = in.occluder[t[j]];
+              if (!(sj < 1.0 && oj > 0.0)) continue;
+              const V3 Pt = c.position(t[j]);
+              double r = c.range_l(len3(sub(Pt, P0))) * (1.0 - sj) * bw[j];
+              const double l = c.across(sub(Pt, P0), wl);
+              if (s.search_reach) {
+                // PCSS's blocker test in image space: the occluder's own penumbra reaches p_0.
+                const double Rt = c.penumbra(oj, len3(sub(s.light, Pt)));
+                r *= std::clamp((SHADOWS_ISG_REACH * Rt + pix - l) / pix, 0.0, 1.0);
+              }
+              sw += r;
+              swd += r * oj;
             }
-            sw += r;
-            swd += r * oj;
           }
           if (sw > 0.0) {
             const double d = swd / sw;
@@ -372,13 +370,7 @@ void ShadowsIsgPass::record(gpu::Sequence& seq, const ShadowSettings& s, const g
   tp.cx = pc.cx;
   tp.cy = pc.cy;
   tp.f_px = pc.f_px;
-  // The eye as a float and its remainder, so P − eye keeps the digits a far scene has.
-  tp.eye_x = float(s.eye[0]);
-  tp.eye_y = float(s.eye[1]);
-  tp.eye_z = float(s.eye[2]);
-  tp.eye_lo_x = float(s.eye[0] - double(tp.eye_x));
-  tp.eye_lo_y = float(s.eye[1] - double(tp.eye_y));
-  tp.eye_lo_z = float(s.eye[2] - double(tp.eye_z));
+  set_split_eye(tp, s.eye);
   tp.r00 = pc.r00, tp.r01 = pc.r01, tp.r02 = pc.r02;
   tp.r10 = pc.r10, tp.r11 = pc.r11, tp.r12 = pc.r12;
   tp.r20 = pc.r20, tp.r21 = pc.r21, tp.r22 = pc.r22;
