@@ -99,7 +99,7 @@ def page(r):
           "its lattices, over the pass's GPU time) as a share of a plain cross-bilateral gather's "
           "taps/s on the same device, measured in the same run (`isg run --timings`; the "
           "yardstick is [the roofline page](roofline.md)). A sample of reflections.isg is two "
-          "16-byte texels; a gather sample of shadows.isg four (bilinear).", "",
+          "16-byte texels (point taps); a sample of shadows.isg four 16-byte texels (bilinear).", "",
           "| binary | run | pass | pixels | samples | M samples/s | roofline M taps/s | share |",
           "|---|---|---|---|---|---|---|---|"]
     for x in r["runs"]:
