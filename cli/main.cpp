@@ -14,6 +14,8 @@
 #include <iostream>
 #include <sstream>
 
+#include "effects/effect.h"
+#include "effects/output_params.h"
 #include "effects/params.h"
 #include "gpu/gpu.h"
 #include "io/color.h"
@@ -124,10 +126,10 @@ void check_override_roles(const isg::io::RoleRequest& req, const isg::io::Roles&
 
 isg::io::ReadLimits limits_of(const isg::params::Params& p) {
   isg::io::ReadLimits l;
-  l.max_pixels = int64_t(p.number("limits.max_megapixels") * 1e6);
-  l.max_channels = int(p.integer("limits.max_channels"));
-  l.max_bytes = int64_t(p.integer("limits.max_memory_mb")) << 20;
-  l.check_seconds = p.number("limits.check_seconds");
+  l.max_pixels = int64_t(p.get(isg::effects::output_keys::max_megapixels) * 1e6);
+  l.max_channels = int(p.get(isg::effects::output_keys::max_channels));
+  l.max_bytes = int64_t(p.get(isg::effects::output_keys::max_memory_mb)) << 20;
+  l.check_seconds = p.get(isg::effects::output_keys::check_seconds);
   std::error_code ec;
   fs::path exe = fs::read_symlink("/proc/self/exe", ec);
   if (!ec) l.checker = (exe.parent_path() / "isg-exrcheck").string();
@@ -156,7 +158,7 @@ isg::run::JobConfig make_job(const RunArgs& a, isg::params::Params p) {
   isg::run::JobConfig job{load_scene(a.common), a.common.scene, std::move(p), {}, {}, {}, a.input_colorspace, ISG_VERSION};
   job.request = role_request(a.common, job.params, job.scene);
   job.limits = limits_of(job.params);
-  job.write = {job.params.choice("output.compression"), a.no_clobber};
+  job.write = {job.params.get(isg::effects::output_keys::compression), a.no_clobber};
   return job;
 }
 
@@ -201,17 +203,10 @@ void print_timings(isg::gpu::Context& ctx, const isg::run::LoadedFrame& f,
             << " MiB device-local + " << double(mem.staging_peak) / 1048576.0
             << " MiB staging (all allocations, measured); host " << double(ru.ru_maxrss) / 1024.0
             << " MiB resident\n";
-  if (st.refl_skipped_fraction >= 0)
-    std::cout << "reflections: " << st.refl_skipped_fraction * 100.0
-              << "% of tiles had nothing glossy (cheap path)\n";
   if (st.dof_cheap_fraction >= 0)
     std::cout << "dof: " << st.dof_cheap_fraction * 100.0 << "% of tiles took the cheap path\n";
-  for (const auto& sh : st.shadows) {
-    std::cout << "shadows[" << sh.light << "]: " << sh.skipped_fraction * 100.0
-              << "% of tiles skipped (no shadow boundary within reach), " << sh.full_pixels
-              << " pixels searched and gathered, " << sh.clamped_pixels
-              << " needed a radius over shadows.max_radius (clamped)\n";
-  }
+  for (const auto& r : st.reports)
+    for (const auto& line : isg::effects::effect_named(r.effect).describe(r)) std::cout << line << "\n";
   // The gather passes against the roofline (a plain cross-bilateral gather, `isg roofline`),
   // measured now on the same device at the frame's size.
   double roof = 0;
@@ -224,12 +219,6 @@ void print_timings(isg::gpu::Context& ctx, const isg::run::LoadedFrame& f,
     std::cout << g.pass << ": " << g.pixels << " pixels x " << g.samples_per_pixel << " samples, "
               << rate * 1e-6 << " M samples/s = " << (roof > 0 ? 100.0 * rate / roof : 0.0)
               << "% of the roofline (" << roof * 1e-6 << " M taps/s, isg roofline)\n";
-  }
-  for (const auto& sm : st.shadowmaps) {
-    std::cout << "shadows[" << sm.light << "] (" << sm.method << "): " << sm.skipped_fraction * 100.0
-              << "% of " << sm.pixels << " pixels in the shadow map skipped the filter (fully lit "
-              << "or umbra), " << sm.clamped_pixels << " clamped to shadows.smap_max_radius; "
-              << double(sm.gpu_bytes) / 1048576.0 << " MiB of the method's own GPU buffers\n";
   }
 }
 

@@ -1,5 +1,5 @@
-// Every effect's parameter table, concatenated: the one list the CLI, presets, provenance and
-// docs read. A new effect adds its table here.
+// The parameter table: the job's own rows ([output], [limits]) and every effect's
+// (Effect::params, in registry order): the one list the CLI, presets, provenance and docs read.
 #pragma once
 
 #include <vector>
@@ -8,9 +8,7 @@
 
 namespace isg::effects {
 
-std::vector<params::Def> shadows_params();
-std::vector<params::Def> reflections_params();
-std::vector<params::Def> dof_params();
+// [output] and [limits]: the job's parameters (lib/effects/output_params.h has their keys).
 std::vector<params::Def> output_params();
 
 std::vector<params::Def> all_params();

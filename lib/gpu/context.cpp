@@ -362,6 +362,7 @@ void Context::save_pipeline_cache() {
 void Context::release() {
   if (device_) {
     vkDeviceWaitIdle(device_);
+    pipelines_.clear();  // kernels still held elsewhere keep theirs until they go
     save_pipeline_cache();
     if (pipeline_cache_) vkDestroyPipelineCache(device_, pipeline_cache_, nullptr);
     pipeline_cache_ = VK_NULL_HANDLE;

@@ -8,9 +8,11 @@
 #include <cstddef>
 #include <cstdint>
 #include <functional>
+#include <map>
 #include <memory>
 #include <span>
 #include <stdexcept>
+#include <tuple>
 #include <string>
 #include <unordered_map>
 #include <vector>
@@ -144,11 +146,25 @@ struct Binding {
 
 // A compute pipeline from embedded SPIR-V, its layout (one descriptor set, `slots` in binding
 // order) and push-constant block.
+// A compiled compute pipeline, shared by every Kernel of the same SPIR-V, slots and push
+// constants made on one Context: the context builds it once and keeps it for its life, so a
+// pass object made per frame or per tile costs no pipeline creation (a runner lives for the job).
+struct Pipeline {
+  VkDevice device = VK_NULL_HANDLE;
+  VkShaderModule module = VK_NULL_HANDLE;
+  VkDescriptorSetLayout set_layout = VK_NULL_HANDLE;
+  VkPipelineLayout layout = VK_NULL_HANDLE;
+  VkPipeline pipeline = VK_NULL_HANDLE;
+  Pipeline() = default;
+  Pipeline(const Pipeline&) = delete;
+  Pipeline& operator=(const Pipeline&) = delete;
+  ~Pipeline();
+};
+
 class Kernel {
  public:
   Kernel(Context& ctx, std::string name, std::span<const uint32_t> spirv,
          std::vector<Slot> slots, uint32_t push_bytes, uint32_t local_x, uint32_t local_y);
-  ~Kernel();
   Kernel(const Kernel&) = delete;
   Kernel& operator=(const Kernel&) = delete;
 
@@ -157,19 +173,15 @@ class Kernel {
   uint32_t local_y() const { return local_y_; }
   uint32_t push_bytes() const { return push_bytes_; }
   const std::vector<Slot>& slots() const { return slots_; }
-  VkPipeline pipeline() const { return pipeline_; }
-  VkPipelineLayout layout() const { return layout_; }
-  VkDescriptorSetLayout set_layout() const { return set_layout_; }
+  VkPipeline pipeline() const { return p_->pipeline; }
+  VkPipelineLayout layout() const { return p_->layout; }
+  VkDescriptorSetLayout set_layout() const { return p_->set_layout; }
 
  private:
-  Context& ctx_;
   std::string name_;
   std::vector<Slot> slots_;
   uint32_t push_bytes_, local_x_, local_y_;
-  VkShaderModule module_ = VK_NULL_HANDLE;
-  VkDescriptorSetLayout set_layout_ = VK_NULL_HANDLE;
-  VkPipelineLayout layout_ = VK_NULL_HANDLE;
-  VkPipeline pipeline_ = VK_NULL_HANDLE;
+  std::shared_ptr<const Pipeline> p_;
 };
 
 struct PassTime {
@@ -256,7 +268,16 @@ class Context {
   // Called from the debug messenger (public for the C callback).
   void on_message(const char* text);
 
+  // The pipeline of this SPIR-V with these slots and push constants: built on first use, then
+  // shared (Kernel's constructor); `built_pipelines` counts the builds.
+  std::shared_ptr<const Pipeline> pipeline(const std::string& name, std::span<const uint32_t> spirv,
+                                           const std::vector<Slot>& slots, uint32_t push_bytes);
+  size_t built_pipelines() const { return pipelines_.size(); }
+
  private:
+  std::map<std::tuple<const uint32_t*, size_t, std::vector<Slot>, uint32_t>,
+           std::shared_ptr<const Pipeline>>
+      pipelines_;
   void release();
   VkInstance instance_ = VK_NULL_HANDLE;
   VkDebugUtilsMessengerEXT messenger_ = VK_NULL_HANDLE;

@@ -6,64 +6,63 @@ namespace isg::gpu {
 
 Kernel::Kernel(Context& ctx, std::string name, std::span<const uint32_t> spirv,
                std::vector<Slot> slots, uint32_t push_bytes, uint32_t local_x, uint32_t local_y)
-    : ctx_(ctx), name_(std::move(name)), slots_(std::move(slots)), push_bytes_(push_bytes),
-      local_x_(local_x), local_y_(local_y) {
-  VkDevice dev = ctx.device();
-  auto cleanup = [&] {
-    if (pipeline_) vkDestroyPipeline(dev, pipeline_, nullptr);
-    if (layout_) vkDestroyPipelineLayout(dev, layout_, nullptr);
-    if (set_layout_) vkDestroyDescriptorSetLayout(dev, set_layout_, nullptr);
-    if (module_) vkDestroyShaderModule(dev, module_, nullptr);
-  };
-  try {
-    VkShaderModuleCreateInfo mi{VK_STRUCTURE_TYPE_SHADER_MODULE_CREATE_INFO};
-    mi.codeSize = spirv.size_bytes();
-    mi.pCode = spirv.data();
-    check(vkCreateShaderModule(dev, &mi, nullptr, &module_), "vkCreateShaderModule");
+    : name_(std::move(name)), slots_(std::move(slots)), push_bytes_(push_bytes),
+      local_x_(local_x), local_y_(local_y), p_(ctx.pipeline(name_, spirv, slots_, push_bytes)) {}
 
-    std::vector<VkDescriptorSetLayoutBinding> b(slots_.size());
-    for (uint32_t i = 0; i < slots_.size(); ++i) {
-      b[i].binding = i;
-      b[i].descriptorType = slots_[i] == Slot::buffer ? VK_DESCRIPTOR_TYPE_STORAGE_BUFFER
-                                                      : VK_DESCRIPTOR_TYPE_STORAGE_IMAGE;
-      b[i].descriptorCount = 1;
-      b[i].stageFlags = VK_SHADER_STAGE_COMPUTE_BIT;
-    }
-    VkDescriptorSetLayoutCreateInfo li{VK_STRUCTURE_TYPE_DESCRIPTOR_SET_LAYOUT_CREATE_INFO};
-    li.bindingCount = static_cast<uint32_t>(b.size());
-    li.pBindings = b.data();
-    check(vkCreateDescriptorSetLayout(dev, &li, nullptr, &set_layout_), "descriptor set layout");
-
-    VkPushConstantRange pr{VK_SHADER_STAGE_COMPUTE_BIT, 0, push_bytes_};
-    VkPipelineLayoutCreateInfo pli{VK_STRUCTURE_TYPE_PIPELINE_LAYOUT_CREATE_INFO};
-    pli.setLayoutCount = 1;
-    pli.pSetLayouts = &set_layout_;
-    pli.pushConstantRangeCount = push_bytes_ ? 1 : 0;
-    pli.pPushConstantRanges = &pr;
-    check(vkCreatePipelineLayout(dev, &pli, nullptr, &layout_), "pipeline layout");
-
-    VkComputePipelineCreateInfo ci{VK_STRUCTURE_TYPE_COMPUTE_PIPELINE_CREATE_INFO};
-    ci.stage.sType = VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO;
-    ci.stage.stage = VK_SHADER_STAGE_COMPUTE_BIT;
-    ci.stage.module = module_;
-    ci.stage.pName = "main";
-    ci.layout = layout_;
-    check(vkCreateComputePipelines(dev, ctx.pipeline_cache(), 1, &ci, nullptr, &pipeline_),
-          "vkCreateComputePipelines");
-  } catch (...) {
-    cleanup();
-    throw;
-  }
-  ctx.set_debug_name(VK_OBJECT_TYPE_PIPELINE, reinterpret_cast<uint64_t>(pipeline_), name_);
-  ctx.set_debug_name(VK_OBJECT_TYPE_SHADER_MODULE, reinterpret_cast<uint64_t>(module_), name_);
+Pipeline::~Pipeline() {
+  if (pipeline) vkDestroyPipeline(device, pipeline, nullptr);
+  if (layout) vkDestroyPipelineLayout(device, layout, nullptr);
+  if (set_layout) vkDestroyDescriptorSetLayout(device, set_layout, nullptr);
+  if (module) vkDestroyShaderModule(device, module, nullptr);
 }
 
-Kernel::~Kernel() {
-  VkDevice dev = ctx_.device();
-  vkDestroyPipeline(dev, pipeline_, nullptr);
-  vkDestroyPipelineLayout(dev, layout_, nullptr);
-  vkDestroyDescriptorSetLayout(dev, set_layout_, nullptr);
-  vkDestroyShaderModule(dev, module_, nullptr);
+std::shared_ptr<const Pipeline> Context::pipeline(const std::string& name,
+                                                  std::span<const uint32_t> spirv,
+                                                  const std::vector<Slot>& slots,
+                                                  uint32_t push_bytes) {
+  auto key = std::make_tuple(spirv.data(), spirv.size(), slots, push_bytes);
+  auto it = pipelines_.find(key);
+  if (it != pipelines_.end()) return it->second;
+  auto p = std::make_shared<Pipeline>();
+  p->device = device_;
+  VkShaderModuleCreateInfo mi{VK_STRUCTURE_TYPE_SHADER_MODULE_CREATE_INFO};
+  mi.codeSize = spirv.size_bytes();
+  mi.pCode = spirv.data();
+  check(vkCreateShaderModule(device_, &mi, nullptr, &p->module), "vkCreateShaderModule");
+
+  std::vector<VkDescriptorSetLayoutBinding> b(slots.size());
+  for (uint32_t i = 0; i < slots.size(); ++i) {
+    b[i].binding = i;
+    b[i].descriptorType = slots[i] == Slot::buffer ? VK_DESCRIPTOR_TYPE_STORAGE_BUFFER
+                                                   : VK_DESCRIPTOR_TYPE_STORAGE_IMAGE;
+    b[i].descriptorCount = 1;
+    b[i].stageFlags = VK_SHADER_STAGE_COMPUTE_BIT;
+  }
+  VkDescriptorSetLayoutCreateInfo li{VK_STRUCTURE_TYPE_DESCRIPTOR_SET_LAYOUT_CREATE_INFO};
+  li.bindingCount = static_cast<uint32_t>(b.size());
+  li.pBindings = b.data();
+  check(vkCreateDescriptorSetLayout(device_, &li, nullptr, &p->set_layout), "descriptor set layout");
+
+  VkPushConstantRange pr{VK_SHADER_STAGE_COMPUTE_BIT, 0, push_bytes};
+  VkPipelineLayoutCreateInfo pli{VK_STRUCTURE_TYPE_PIPELINE_LAYOUT_CREATE_INFO};
+  pli.setLayoutCount = 1;
+  pli.pSetLayouts = &p->set_layout;
+  pli.pushConstantRangeCount = push_bytes ? 1 : 0;
+  pli.pPushConstantRanges = &pr;
+  check(vkCreatePipelineLayout(device_, &pli, nullptr, &p->layout), "pipeline layout");
+
+  VkComputePipelineCreateInfo ci{VK_STRUCTURE_TYPE_COMPUTE_PIPELINE_CREATE_INFO};
+  ci.stage.sType = VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO;
+  ci.stage.stage = VK_SHADER_STAGE_COMPUTE_BIT;
+  ci.stage.module = p->module;
+  ci.stage.pName = "main";
+  ci.layout = p->layout;
+  check(vkCreateComputePipelines(device_, pipeline_cache_, 1, &ci, nullptr, &p->pipeline),
+        "vkCreateComputePipelines");
+  set_debug_name(VK_OBJECT_TYPE_PIPELINE, reinterpret_cast<uint64_t>(p->pipeline), name);
+  set_debug_name(VK_OBJECT_TYPE_SHADER_MODULE, reinterpret_cast<uint64_t>(p->module), name);
+  pipelines_.emplace(key, p);
+  return p;
 }
 
 // ---- Sequence ----

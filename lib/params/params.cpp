@@ -118,15 +118,46 @@ void Params::set_text(const std::string& key, const std::string& text, const std
   }
 }
 
-bool Params::flag(const std::string& key) const { return std::get<bool>(values_.at(key)); }
-long long Params::integer(const std::string& key) const { return std::get<long long>(values_.at(key)); }
-double Params::number(const std::string& key) const { return std::get<double>(values_.at(key)); }
+Def def(Flag k, const char* deflt, std::string help, std::string unit) {
+  return {k.name, Type::boolean, deflt, 0, 0, {}, std::move(help), std::move(unit)};
+}
+Def def(Int k, const char* deflt, double lo, double hi, std::string help, std::string unit) {
+  return {k.name, Type::integer, deflt, lo, hi, {}, std::move(help), std::move(unit)};
+}
+Def def(Number k, const char* deflt, double lo, double hi, std::string help, std::string unit) {
+  return {k.name, Type::number, deflt, lo, hi, {}, std::move(help), std::move(unit)};
+}
+Def def(Choice k, const char* deflt, std::vector<std::string> choices, std::string help,
+        std::string unit) {
+  return {k.name, Type::choice, deflt, 0, 0, std::move(choices), std::move(help), std::move(unit)};
+}
+
+// Every read names the key it failed on: an unknown key, or one read as another type.
+const Value& Params::value(const std::string& key) const {
+  auto it = values_.find(key);
+  if (it == values_.end()) throw ParamError("parameter " + key + ": unknown key (not in any table)");
+  return it->second;
+}
+
+namespace {
+template <class T>
+const T& as(const Value& v, const std::string& key, const char* type) {
+  if (const T* x = std::get_if<T>(&v)) return *x;
+  throw ParamError("parameter " + key + ": read as " + type + " but declared otherwise");
+}
+}  // namespace
+
+bool Params::flag(const std::string& key) const { return as<bool>(value(key), key, "a flag"); }
+long long Params::integer(const std::string& key) const {
+  return as<long long>(value(key), key, "an integer");
+}
+double Params::number(const std::string& key) const { return as<double>(value(key), key, "a number"); }
 const std::string& Params::choice(const std::string& key) const {
-  return std::get<std::string>(values_.at(key));
+  return as<std::string>(value(key), key, "a choice");
 }
 
 std::string Params::text(const std::string& key) const {
-  const Value& v = values_.at(key);
+  const Value& v = value(key);
   if (auto b = std::get_if<bool>(&v)) return *b ? "true" : "false";
   if (auto i = std::get_if<long long>(&v)) return std::to_string(*i);
   if (auto x = std::get_if<double>(&v)) return format_number(*x);

@@ -29,6 +29,25 @@ struct Def {
 
 using Value = std::variant<bool, long long, double, std::string>;
 
+// A parameter's key with its type: declared once, next to its effect's table, and read through
+// Params::get, so a key string is typed once and a value is read as the type it was declared.
+template <class T>
+struct Key {
+  const char* name;  // "section.name"
+};
+using Flag = Key<bool>;
+using Int = Key<long long>;
+using Number = Key<double>;
+using Choice = Key<std::string>;
+
+// Table rows from typed keys (the type follows from the key).
+Def def(Flag k, const char* deflt, std::string help, std::string unit = "");
+Def def(Int k, const char* deflt, double lo, double hi, std::string help, std::string unit = "");
+Def def(Number k, const char* deflt, double lo, double hi, std::string help,
+        std::string unit = "");
+Def def(Choice k, const char* deflt, std::vector<std::string> choices, std::string help,
+        std::string unit = "");
+
 // Where a [channels] entry came from, for errors that name file:line.
 struct ChannelEntry {
   std::string name;
@@ -45,6 +64,12 @@ class Params {
   // Sets from text (`--set key=value`); `where` prefixes errors ("--set", "preset.toml:12").
   void set_text(const std::string& key, const std::string& text, const std::string& where);
   void set(const std::string& key, const Value& v, const std::string& where);
+
+  // Typed reads; an unknown key throws ParamError naming it.
+  bool get(Flag k) const { return flag(k.name); }
+  long long get(Int k) const { return integer(k.name); }
+  double get(Number k) const { return number(k.name); }
+  const std::string& get(Choice k) const { return choice(k.name); }
 
   bool flag(const std::string& key) const;
   long long integer(const std::string& key) const;
@@ -69,6 +94,7 @@ class Params {
   std::map<std::string, Value> values_;
   std::map<std::string, ChannelEntry> channels_;
   std::string preset_ = "(defaults)";
+  const Value& value(const std::string& key) const;
 };
 
 // The shipped presets (name, description, path) found in `dirs`.

@@ -1,5 +1,6 @@
 #include "run/job.h"
 
+#include "effects/output_params.h"
 #include "io/color.h"
 
 #include <algorithm>
@@ -39,6 +40,13 @@ LoadedFrame plan_frame(const JobConfig& job, const std::string& input) {
   return f;
 }
 
+namespace {
+// The load stage of the effects: files they read besides the input, once per frame.
+void load_effects(LoadedFrame& f) {
+  for (auto& i : f.plan.instances) effects::effect_named(i->effect).load(*i, f.warnings);
+}
+}  // namespace
+
 LoadedFrame load_frame(const JobConfig& job, const std::string& input) {
   LoadedFrame f = plan_frame(job, input);
   if (!f.plan.missing.empty()) {
@@ -48,6 +56,7 @@ LoadedFrame load_frame(const JobConfig& job, const std::string& input) {
   f.img = io::read_exr(input, job.limits);
   f.read_ms = std::chrono::duration<double, std::milli>(Clock::now() - t).count();
   f.nonfinite = io::sanitize(f.img);
+  load_effects(f);
   if (!job.input_colorspace.empty()) {
     const auto& rgb = f.roles.get("beauty")->terms.front();
     io::to_scene_linear(f.img, {rgb[0], rgb[1], rgb[2]}, job.input_colorspace);
@@ -86,7 +95,7 @@ io::Image crop(const io::Image& img, int x, int y, int w, int h) {
 // (half its memory, or its largest storage buffer) the largest that does; 0: one piece.
 int tile_edge(const gpu::Context& ctx, const JobConfig& job, const LoadedFrame& f) {
   const int W = f.img.width, H = f.img.height;
-  int64_t t = job.params.integer("limits.tile_size");
+  int64_t t = job.params.get(effects::output_keys::tile_size);
   if (t == 0) {
     const auto& info = ctx.info();
     uint64_t largest = 0;
@@ -102,49 +111,18 @@ int tile_edge(const gpu::Context& ctx, const JobConfig& job, const LoadedFrame& 
   return t >= std::max(W, H) ? 0 : int(t);
 }
 
-// Per light where shadows.isg runs on input occluders: the whole frame's d_max (eq. 8; what
-// pass shadows.isg.tiles finds over the foreground's shadowed pixels), which a tile must start
-// from. Lights whose occluders come from the shadow map are left out: a tile then bounds its
-// search by its own (apron included) d_max.
-std::map<std::string, double> frame_dmax(const LoadedFrame& f) {
-  std::map<std::string, double> out;
-  const size_t n = f.img.pixels();
-  const io::RoleBinding* beauty = f.roles.get("beauty");
-  std::vector<float> alpha, depth;
-  if (beauty && beauty->components() == 4) {
-    auto b = io::gather_role(f.img, *beauty, 4);
-    alpha.assign(b.begin() + ptrdiff_t(3 * n), b.end());
-  }
-  if (const io::RoleBinding* d = f.roles.get("depth")) depth = io::gather_role(f.img, *d, 1);
-  for (const auto& [l, s] : f.plan.shadows) {
-    if (f.plan.derived.count(l)) continue;
-    const auto* sb = f.roles.get(l + ".shadow");
-    const auto* ob = f.roles.get(l + ".occluder");
-    if (!sb || !ob) continue;
-    const auto sh = io::gather_role(f.img, *sb, 1), oc = io::gather_role(f.img, *ob, 1);
-    float dm = 0.0f;
-    for (size_t i = 0; i < n; ++i) {
-      if (!alpha.empty() && alpha[i] == 0.0f) continue;
-      if (!depth.empty() && (depth[i] <= 0.0f || depth[i] >= float(ISG_BACKGROUND_DEPTH))) continue;
-      if (sh[i] < 1.0f && oc[i] > 0.0f) dm = std::max(dm, oc[i]);
-    }
-    out[l] = dm;
-  }
-  return out;
-}
-
 // Large plates: tiles of `edge` pixels, each run with its apron (the plan's reach, in whole
 // 16-pixel steps so tile grids line up with the frame's) as a window of the frame; the inner
 // pixels of every output channel are copied back. GPU times add up per pass; skipped fractions
 // are weighted by pixels.
-Stats execute_tiled(gpu::Context& ctx, const JobConfig& job, LoadedFrame& f, int edge) {
+Stats execute_tiled(Runner& runner, const JobConfig& job, LoadedFrame& f, int edge) {
   const int W = f.img.width, H = f.img.height;
   const int apron = (f.plan.reach + 15) / 16 * 16;
-  const auto dmax = frame_dmax(f);
+  // What a tile needs from the whole frame, effect by effect (shadows.isg: the frame's d_max).
+  for (auto& i : f.plan.instances) effects::effect_named(i->effect).prepare_tiles(*i, f.img, f.roles);
   std::map<std::string, io::Channel> out;
   std::vector<std::string> order;
   Stats total;
-  std::map<std::string, size_t> pass_at;
   int tiles = 0;
   for (int ty = 0; ty < H; ty += edge) {
     for (int tx = 0; tx < W; tx += edge) {
@@ -154,23 +132,12 @@ Stats execute_tiled(gpu::Context& ctx, const JobConfig& job, LoadedFrame& f, int
       plan::Plan plan = plan::make_plan(f.roles, job.scene, job.params, x1 - x0, y1 - y0,
                                         f.camera ? &*f.camera : nullptr,
                                         effects::Window{x0, y0, W, H});
-      for (auto& [l, s] : plan.shadows)
-        if (dmax.count(l)) s.d_max_floor = dmax.at(l);
-      Stats st = execute(ctx, plan, f.roles, piece);
+      for (auto& t : plan.instances)
+        if (const effects::Instance* fi = f.plan.instance(t->key))
+          effects::effect_named(t->effect).from_frame(*t, *fi);
+      Stats st = runner.execute(plan, f.roles, piece);
       ++tiles;
-      for (const auto& p : st.passes) {
-        auto it = pass_at.find(p.name);
-        if (it == pass_at.end()) {
-          pass_at[p.name] = total.passes.size();
-          total.passes.push_back(p);
-        } else {
-          total.passes[it->second].ms += p.ms;
-        }
-      }
-      total.upload_ms += st.upload_ms;
-      total.record_ms += st.record_ms;
-      total.gpu_wall_ms += st.gpu_wall_ms;
-      total.download_ms += st.download_ms;
+      total.add_tile(st);
       // The inner pixels of every channel.
       const int iw = std::min(tx + edge, W) - tx, ih = std::min(ty + edge, H) - ty;
       for (const auto& ch : piece.channels) {
@@ -182,41 +149,6 @@ Stats execute_tiled(gpu::Context& ctx, const JobConfig& job, LoadedFrame& f, int
         for (int r = 0; r < ih; ++r)
           std::copy_n(ch.data.begin() + ptrdiff_t(size_t(ty - y0 + r) * size_t(x1 - x0) + size_t(tx - x0)),
                       iw, it->second.data.begin() + ptrdiff_t(size_t(ty + r) * size_t(W) + size_t(tx)));
-      }
-      // Statistics: counts add up, fractions are averaged over the tiles (weighted by pixels
-      // for the shadow-map methods); aprons are counted in each tile that reads them.
-      total.warnings.insert(st.warnings.begin(), st.warnings.end());
-      if (tiles == 1) {
-        total.shadows = st.shadows;
-        total.shadowmaps = st.shadowmaps;
-        total.dof_cheap_fraction = st.dof_cheap_fraction;
-        total.refl_skipped_fraction = st.refl_skipped_fraction;
-        total.gathers = st.gathers;
-      } else {
-        for (size_t j = 0; j < total.gathers.size() && j < st.gathers.size(); ++j)
-          total.gathers[j].pixels += st.gathers[j].pixels;
-        const double k = 1.0 / tiles;
-        for (size_t j = 0; j < total.shadows.size() && j < st.shadows.size(); ++j) {
-          auto& a = total.shadows[j];
-          const auto& b = st.shadows[j];
-          a.skipped_fraction += (b.skipped_fraction - a.skipped_fraction) * k;
-          a.clamped_pixels += b.clamped_pixels;
-          a.full_pixels += b.full_pixels;
-        }
-        for (size_t j = 0; j < total.shadowmaps.size() && j < st.shadowmaps.size(); ++j) {
-          auto& a = total.shadowmaps[j];
-          const auto& b = st.shadowmaps[j];
-          const double n = double(a.pixels + b.pixels);
-          if (n > 0)
-            a.skipped_fraction = (a.skipped_fraction * double(a.pixels) + b.skipped_fraction * double(b.pixels)) / n;
-          a.pixels += b.pixels;
-          a.clamped_pixels += b.clamped_pixels;
-          a.gpu_bytes = std::max(a.gpu_bytes, b.gpu_bytes);
-        }
-        if (st.dof_cheap_fraction >= 0)
-          total.dof_cheap_fraction += (st.dof_cheap_fraction - total.dof_cheap_fraction) * k;
-        if (st.refl_skipped_fraction >= 0)
-          total.refl_skipped_fraction += (st.refl_skipped_fraction - total.refl_skipped_fraction) * k;
       }
     }
   }
@@ -232,8 +164,16 @@ Stats execute_tiled(gpu::Context& ctx, const JobConfig& job, LoadedFrame& f, int
 }  // namespace
 
 Stats process_frame(gpu::Context& ctx, const JobConfig& job, LoadedFrame& f) {
+  Runner runner(ctx);
+  return process_frame(runner, job, f);
+}
+
+Stats process_frame(Runner& runner, const JobConfig& job, LoadedFrame& f) {
+  gpu::Context& ctx = runner.context();
+  load_effects(f);  // a frame from plan_frame: nothing loaded yet (a no-op after load_frame)
   const int edge = tile_edge(ctx, job, f);
-  Stats st = edge > 0 ? execute_tiled(ctx, job, f, edge) : execute(ctx, f.plan, f.roles, f.img);
+  Stats st = edge > 0 ? execute_tiled(runner, job, f, edge) : runner.execute(f.plan, f.roles, f.img);
+  st.warnings.insert(f.warnings.begin(), f.warnings.end());
   // Provenance: tool version, device, preset, every parameter.
   auto& a = f.img.attributes;
   a.attribute("isg:version", job.version);

@@ -4,6 +4,7 @@
 #pragma once
 
 #include <optional>
+#include <set>
 #include <string>
 #include <vector>
 
@@ -35,14 +36,17 @@ struct LoadedFrame {
   plan::Plan plan;
   std::optional<io::Camera> camera;  // the scene file's, else the EXR header's
   std::vector<io::NonFinite> nonfinite;
+  std::set<std::string> warnings;  // from the load stage (e.g. NaN depths in a shadow map)
   double read_ms = 0;
 };
 
 // Header, roles and plan only (for --dry-run and for checks before any pixels are read).
 LoadedFrame plan_frame(const JobConfig& job, const std::string& input);
-// Reads the pixels too; throws IoError on anything wrong with the input.
+// Reads the pixels too, and what the effects read besides (shadow maps): the load stage.
+// Throws IoError on anything wrong with the input.
 LoadedFrame load_frame(const JobConfig& job, const std::string& input);
 // Runs the plan on the device and adds the output channels and provenance to frame.img.
+Stats process_frame(Runner& runner, const JobConfig& job, LoadedFrame& frame);
 Stats process_frame(gpu::Context& ctx, const JobConfig& job, LoadedFrame& frame);
 // Atomic write; returns the wall time in ms.
 double write_frame(const JobConfig& job, const LoadedFrame& frame, const std::string& output);

@@ -38,6 +38,8 @@ struct OutputRun {
 
 // Each method of each effect at least once, on the input that exercises it, plus the tiled path
 // and the shipped presets that change a method or a sample count.
+void PrintTo(const OutputRun& r, std::ostream* os) { *os << r.source << " " << r.args; }
+
 const std::vector<OutputRun>& runs() {
   static const std::vector<OutputRun> r = {
       {"case:contact", "default", ""},

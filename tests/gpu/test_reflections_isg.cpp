@@ -13,6 +13,7 @@
 
 #include "effects/composite/composite.h"
 #include "effects/params.h"
+#include "effects/reflections/instance.h"
 #include "effects/reflections/reflections.h"
 #include "io/image.h"
 #include "run/job.h"
@@ -405,7 +406,7 @@ TEST_F(GpuTest, ReflectionsSharedCaseGloss) {
           "%-5s search %3d gather %3d  RMSE %.5f  (oracle gap closed %.1f%%)  GPU %.1f ms  tiles "
           "skipped %.1f%%\n",
           m.c_str(), search, gather, e, 100.0 * (nothing - e) / (nothing - 0.0003), ms,
-          100.0 * st.refl_skipped_fraction);
+          100.0 * st.report("reflections")->get("skipped"));
       if (m == "isg" && isg_err < 0) {
         isg_err = e;
         // The pass against its double reference on the whole case.
@@ -422,7 +423,7 @@ TEST_F(GpuTest, ReflectionsSharedCaseGloss) {
         in.position = role("position", 3);
         const auto alpha = f.img.find("input.A")->data, depth = f.img.find("Z")->data;
         in.fg = fx::foreground_reference(alpha.data(), depth.data(), f.img.pixels());
-        const auto ref_glossy = fx::reflections_reference(in, f.plan.refl.value());
+        const auto ref_glossy = fx::reflections_reference(in, f.plan.instance_as<fx::ReflInstance>("reflections")->s);
         std::vector<float> g;
         for (int c = 0; c < 3; ++c) {
           const auto& gc = f.img.find(std::string("refl.glossy.") + "RGB"[c])->data;

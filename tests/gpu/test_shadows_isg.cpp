@@ -8,6 +8,7 @@
 #include <numbers>
 
 #include "effects/params.h"
+#include "effects/shadows/instance.h"
 #include "effects/shadows/isg.h"
 #include "support/gpu_fixture.h"
 #include "support/images.h"
@@ -236,7 +237,8 @@ TEST(ShadowsIsgPlan, SaysWhyItCannotRun) {
   plan = isg::plan::make_plan(roles, scene, p, 64, 64);
   EXPECT_TRUE(plan.effects[0].runs) << plan.effects[0].why;
   EXPECT_EQ(plan.effects[0].method, "isg");
-  EXPECT_EQ(plan.shadows.count("key"), 1u);
+  const auto* inst = plan.instance_as<fx::ShadowsInstance>("shadows[key]");
+  EXPECT_TRUE(inst && inst->isg.has_value());
   roles.found.erase("key.occluder");
   plan = isg::plan::make_plan(roles, scene, p, 64, 64);
   EXPECT_EQ(plan.effects[0].method, "hard");
@@ -254,9 +256,10 @@ TEST_F(ShadowsIsg, ContactCaseHalvesTheHardShadowError) {
   const auto e = isg::test::shadow_error(f.img, ref);
   const double es = e.soft, eh = e.hard;
   const size_t n = e.pixels;
-  ASSERT_EQ(st.shadows.size(), 1u);
+  const auto* r = st.report("shadows[key]");
+  ASSERT_TRUE(r);
   std::printf("contact: key.softshadow RMSE %.5f, hard %.5f (mask, %zu px), %.1f%% tiles skipped\n",
-              es, eh, n, 100 * st.shadows[0].skipped_fraction);
+              es, eh, n, 100 * r->get("skipped") / r->get("tiles"));
   EXPECT_NEAR(eh, 0.0435, 0.0005);  // the case README's "error of doing nothing"
   EXPECT_LT(es, 0.5 * eh);          // measured 0.0160
 }

@@ -14,7 +14,8 @@ TEST(Plan, RunsOnlyWhatTheInputsAllow) {
                          "key.direct.B", "rim.shadow"});
   auto plan = isg::plan::make_plan(roles, {}, p, 8, 4);
   EXPECT_TRUE(plan.missing.empty());
-  EXPECT_EQ(plan.soft_lights, std::vector<std::string>{"key"});  // rim has no direct
+  EXPECT_TRUE(plan.instance("shadows[key]"));
+  EXPECT_FALSE(plan.instance("shadows[rim]"));  // rim has no direct
   EXPECT_TRUE(plan.resource("key.shadow"));
   EXPECT_FALSE(plan.resource("rim.shadow"));
   bool rim_reported = false;
@@ -29,7 +30,7 @@ TEST(Plan, MethodNoneAllocatesNothingForShadows) {
   p.set_text("shadows.method", "none", "test");
   auto roles = roles_of({"R", "G", "B", "key.shadow", "key.direct.R", "key.direct.G", "key.direct.B"});
   auto plan = isg::plan::make_plan(roles, {}, p, 8, 4);
-  EXPECT_TRUE(plan.soft_lights.empty());
+  EXPECT_FALSE(plan.instance("shadows[key]"));
   EXPECT_FALSE(plan.resource("key.shadow"));
   EXPECT_FALSE(plan.resource("depth"));  // no depth channel: none allocated
   for (const auto& pass : plan.passes) EXPECT_EQ(pass.name.find("shadows"), std::string::npos);
@@ -44,7 +45,7 @@ TEST(Plan, PointLightsKeepHardShadows) {
   scene.lights.push_back(l);
   auto roles = roles_of({"R", "G", "B", "key.shadow", "key.direct.R", "key.direct.G", "key.direct.B"});
   auto plan = isg::plan::make_plan(roles, scene, p, 8, 4);
-  EXPECT_TRUE(plan.soft_lights.empty());
+  EXPECT_FALSE(plan.instance("shadows[key]"));
 }
 
 TEST(Plan, MissingBeautyIsReported) {

@@ -20,41 +20,9 @@
 
 namespace isg::effects {
 
-// ---- lens (eq. 15) ----
-
-double mm_per_unit(const std::string& units) {
-  if (units == "mm") return 1.0;
-  if (units == "cm") return 10.0;
-  return 1000.0;
-}
-
-DofLens dof_lens(const io::Camera& cam, const std::string& units, const params::Params& p) {
-  DofLens L;
-  L.z_f = p.number("dof.focus_distance") > 0 ? p.number("dof.focus_distance") : cam.focus_distance;
-  const double N = p.number("dof.fstop") > 0 ? p.number("dof.fstop") : cam.fstop;
-  const double f = cam.focal_length_mm, zf_mm = L.z_f * mm_per_unit(units);
-  const int width = cam.width > 0 ? cam.width : 1;
-  // Thin lens, as a radius in pixels (settings.h); a focus inside the focal length has no image.
-  L.c_inf = zf_mm > f ? f * f / (2.0 * N * (zf_mm - f)) * width / cam.sensor_width_mm : 0.0;
-  if (p.number("dof.coc_infinity") > 0) L.c_inf = p.number("dof.coc_infinity");
-  L.c_inf *= p.number("dof.coc_scale");
-  L.max_coc = p.number("dof.max_coc");
-  return L;
-}
-
-DofSettings dof_settings(const io::Camera& cam, const std::string& units, const params::Params& p) {
-  DofSettings s;
-  s.method = p.choice("dof.method");
-  s.lens = dof_lens(cam, units, p);
-  s.grid = std::max(1, int(std::lround(std::sqrt(double(p.integer("dof.samples"))))));
-  s.blades = p.choice("dof.aperture") == "polygon" ? int(p.integer("dof.blades")) : 0;
-  s.rotation_deg = p.number("dof.rotation");
-  s.tile_skip = p.flag("dof.tile_skip");
-  return s;
-}
-
 uint32_t dof_tiles_x(uint32_t w) { return (w + DOF_TILE - 1) / DOF_TILE; }
 uint32_t dof_tiles_y(uint32_t h) { return (h + DOF_TILE - 1) / DOF_TILE; }
+
 
 namespace {
 

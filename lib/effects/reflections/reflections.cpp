@@ -185,36 +185,6 @@ double ggx_cone_tan(double alpha, double energy) {
   return alpha * std::sqrt(energy / (1.0 - energy));
 }
 
-ReflSettings refl_settings(const io::Camera& cam, double scene_radius, const params::Params& p,
-                           int height) {
-  ReflSettings s;
-  s.method = p.choice("reflections.method");
-  s.grid_search = grid_of(p.integer("reflections.search_samples"));
-  s.grid_gather = grid_of(p.integer("reflections.gather_samples"));
-  s.roughness = p.number("reflections.roughness");
-  s.roughness_override = p.flag("reflections.roughness_override");
-  s.energy = p.number("reflections.energy");
-  s.a = p.number("reflections.a");
-  s.b = p.number("reflections.b");
-  s.sigma = p.number("reflections.sigma");
-  s.scene_radius = scene_radius > 0 ? scene_radius : 1.0;
-  s.max_radius = p.number("reflections.max_radius");
-  s.blur_radius = p.number("reflections.blur_radius");
-  s.search_reach = p.flag("reflections.search_reach");
-  s.search_misses = p.flag("reflections.search_misses");
-  s.anisotropic = p.flag("reflections.anisotropic");
-  s.masking = p.flag("reflections.masking");
-  const auto v = PinholeView::of(cam, height);
-  s.f_px = v.f_px;
-  s.eye = v.eye;
-  s.rot = v.rot;
-  return s;
-}
-
-uint32_t refl_tiles(uint32_t w, uint32_t h) {
-  return ((w + REFL_TILE - 1) / REFL_TILE) * ((h + REFL_TILE - 1) / REFL_TILE);
-}
-
 std::vector<float> reflections_reference(const ReflInputs& in, const ReflSettings& s,
                                          std::vector<float>* tiles) {
   const size_t n = size_t(in.w) * in.h;
@@ -306,13 +276,25 @@ shaders::ReflIsgPush ReflectionsPass::push(uint32_t w, uint32_t h, bool has_posi
 
 void ReflectionsPass::record(gpu::Sequence& seq, const ReflBuffers& b, uint32_t w, uint32_t h,
                              const std::string& label) {
+  record_pack(seq, b, w, h, "reflections.pack");
+  record_gather(seq, b, w, h, label);
+}
+
+void ReflectionsPass::record_pack(gpu::Sequence& seq, const ReflBuffers& b, uint32_t w,
+                                  uint32_t h, const std::string& label) {
   const bool has_rough = b.rough && !s_.roughness_override;
   const auto pc = push(w, h, b.has_position, has_rough);
   seq.dispatch(pack_,
                {gpu::Binding::of(b.refl), gpu::Binding::of(b.dist), gpu::Binding::of(b.weight),
                 gpu::Binding::of(b.normal), gpu::Binding::of(b.geo), gpu::Binding::of(b.fg),
                 gpu::Binding::of(b.pack_geo), gpu::Binding::of(b.pack_color)},
-               pc, w, h, "reflections.pack");
+               pc, w, h, label);
+}
+
+void ReflectionsPass::record_gather(gpu::Sequence& seq, const ReflBuffers& b, uint32_t w,
+                                    uint32_t h, const std::string& label) {
+  const bool has_rough = b.rough && !s_.roughness_override;
+  const auto pc = push(w, h, b.has_position, has_rough);
   // Without a roughness channel the slot is bound to refl.dist and never read.
   const gpu::Buffer& rb = has_rough ? *b.rough : b.dist;
   seq.dispatch(kernel_,

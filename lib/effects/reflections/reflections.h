@@ -31,8 +31,6 @@ struct ReflInputs {
 std::vector<float> reflections_reference(const ReflInputs& in, const ReflSettings& s,
                                          std::vector<float>* tiles = nullptr);
 
-uint32_t refl_tiles(uint32_t w, uint32_t h);
-
 // The buffers pass reflections.isg binds. geo: P (has_position) or Z; rough may be null
 // (preset roughness); pack_geo and pack_color (4 planes each) are reflections.pack's products.
 struct ReflBuffers {
@@ -54,6 +52,11 @@ class ReflectionsPass {
   ~ReflectionsPass();
   void record(gpu::Sequence& seq, const ReflBuffers& b, uint32_t w, uint32_t h,
               const std::string& label);
+  // The two passes apart (the plan lists both): reflections.pack, then the search and gather.
+  void record_pack(gpu::Sequence& seq, const ReflBuffers& b, uint32_t w, uint32_t h,
+                   const std::string& label);
+  void record_gather(gpu::Sequence& seq, const ReflBuffers& b, uint32_t w, uint32_t h,
+                     const std::string& label);
   // After submit: the tiles that took the cheap path and the pixels that were gathered.
   static ReflTileStats stats(const gpu::Buffer& tiles, uint32_t w, uint32_t h);
 

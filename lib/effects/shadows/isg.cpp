@@ -97,55 +97,6 @@ struct Ctx {
 };
 }  // namespace
 
-double light_size(const io::Light& light) {
-  switch (light.type) {
-    case io::LightType::sphere:
-    case io::LightType::disk: return light.radius;
-    case io::LightType::rect: {
-      const double a = 0.5 * light.size[0], b = 0.5 * light.size[1];
-      return std::sqrt(4.0 * a * b / kPi);
-    }
-    case io::LightType::point: return 0.0;
-  }
-  return 0.0;
-}
-
-std::string shadows_isg_unsupported(const io::Light* light) {
-  if (!light) return "no scene entry for the light: isg needs its position and size";
-  if (light->type == io::LightType::point) return "point light: hard shadows are already right";
-  if (!(light_size(*light) > 0.0)) return "light of size 0: hard shadows are already right";
-  return "";
-}
-
-ShadowSettings shadow_settings(const io::Light& light, const io::Camera& cam, double scene_radius,
-                               const params::Params& p, int height) {
-  ShadowSettings s;
-  s.grid_search = grid_of(p.integer("shadows.search_samples"));
-  s.grid_gather = grid_of(p.integer("shadows.gather_samples"));
-  s.sigma = p.number("shadows.sigma");
-  s.scene_radius = scene_radius > 0 ? scene_radius : 1.0;
-  s.max_radius = p.number("shadows.max_radius");
-  s.rotate = p.flag("shadows.rotate");
-  s.search_reach = p.flag("shadows.search_reach");
-  s.tile_skip = p.flag("shadows.tile_skip");
-  s.light = light.position;
-  s.light_size = light_size(light);
-  s.oriented = light.type == io::LightType::disk || light.type == io::LightType::rect;
-  const double nl = std::sqrt(light.normal[0] * light.normal[0] + light.normal[1] * light.normal[1] +
-                              light.normal[2] * light.normal[2]);
-  if (nl > 0) s.light_normal = {light.normal[0] / nl, light.normal[1] / nl, light.normal[2] / nl};
-  const auto v = PinholeView::of(cam, height);
-  s.f_px = v.f_px;
-  s.eye = v.eye;
-  s.rot = v.rot;
-  return s;
-}
-
-uint32_t shadows_isg_tiles_words(uint32_t w, uint32_t h) {
-  const uint32_t nt = ((w + kTile - 1) / kTile) * ((h + kTile - 1) / kTile);
-  return 3 * nt + SHADOWS_ISG_STATS;
-}
-
 std::vector<float> shadows_isg_reference(const ShadowInputs& in, const ShadowSettings& s,
                                          ShadowIsgStats* stats) {
   const size_t n = size_t(in.w) * in.h;

@@ -47,9 +47,6 @@ struct ShadowIsgStats {
 std::vector<float> shadows_isg_reference(const ShadowInputs& in, const ShadowSettings& s,
                                          ShadowIsgStats* stats = nullptr);
 
-// uint32 words of the tiles buffer (flags, cheap-path marks, statistics).
-uint32_t shadows_isg_tiles_words(uint32_t w, uint32_t h);
-
 class ShadowsIsgPass {
  public:
   explicit ShadowsIsgPass(gpu::Context& ctx);

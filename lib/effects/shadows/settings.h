@@ -1,8 +1,12 @@
-// Soft-shadow settings of method isg that the planner resolves from the light, the camera and
-// the preset (no GPU here).
+// Soft-shadow settings that the planner resolves from the light, the camera and the preset:
+// method isg's, the shadow-map methods', and the shadow map as the load stage reads it (no GPU
+// here).
 #pragma once
 
 #include <array>
+#include <cstdint>
+#include <filesystem>
+#include <vector>
 #include <string>
 
 #include "effects/view.h"
@@ -47,5 +51,65 @@ std::string shadows_isg_unsupported(const io::Light* light);
 // From the light, the camera (any resolution: f_px is for `height` rows) and the preset.
 ShadowSettings shadow_settings(const io::Light& light, const io::Camera& cam, double scene_radius,
                                const params::Params& p, int height);
+
+// uint32 words of the tiles buffer (flags, cheap-path marks, statistics).
+uint32_t shadows_isg_tiles_words(uint32_t w, uint32_t h);
+
+struct ShadowmapSettings {
+  std::string method = "pcss";
+  std::filesystem::path file;             // the map's EXR (channel Z)
+  io::Mat4 world_to_light = io::identity4();
+  double yfov_deg = 90.0;
+  double far_clip = 1e30;                 // the map's far plane: depths beyond it are background
+  double light_radius = 0.0;              // world units (light_size() of the light)
+  int taps = 32;                          // shadows.pcss_taps
+  std::string pattern = "stratified";     // shadows.pcss_pattern: stratified | poisson
+  bool rotate = true;                     // shadows.rotate
+  double bias = 2.0;                      // shadows.bias, receiver texel footprints
+  double slope_max = 4.0;                 // shadows.slope_max
+  double spread_bias = 2.0;               // shadows.spread_bias
+  double max_radius = 64.0;               // shadows.smap_max_radius, texels
+  double scene_radius = 1.0;              // the scene file's scene_radius (r of §7.5.4-7.5.5)
+  // vssm (thesis ch. 7)
+  int vssm_m = 5;           // shadows.vssm_m: m×m uniform sub-kernels, blocker search (§7.4.2)
+  int vssm_h = 3;           // shadows.vssm_h: quad-tree height H, shadow (Algorithm 3)
+  int vssm_leaf_taps = 4;   // shadows.vssm_leaf_taps: PCF taps per non-planar leaf (0: lit)
+  double vssm_flat = 1e-4;  // shadows.vssm_flat: σ² below it·r is planar (§7.5.5)
+  double vssm_contact = 0.01;  // shadows.vssm_contact: d − z_avg below it·r: PCF (§7.5.4)
+  // cssm (thesis ch. 5)
+  int cssm_order = 8;                 // shadows.cssm_order: M, Fourier terms (eq. 5.2, 5.10)
+  std::string cssm_filter = "sat";    // shadows.cssm_filter: sat | mipmap (§5.3.1)
+  int cssm_max_basis = 1024;          // shadows.cssm_max_basis: basis images' largest side
+  double cssm_a = 30.0, cssm_b = 100.0;  // shadows.cssm_sharpen_a/b: eq. 5.9
+  // Camera (depth -> position; facing test): focal length in pixels, eye, world-to-camera
+  // rotation. Without a camera, P is required and no facing test is made.
+  bool has_camera = false;
+  double f_px = 1.0;
+  std::array<double, 3> eye{0, 0, 0};
+  std::array<double, 9> rot{1, 0, 0, 0, 1, 0, 0, 0, 1};
+  Window window;  // a tile of a larger frame (principal point, hash origin)
+};
+
+// Why the shadow-map methods cannot run for this light ("" when they can).
+std::string shadowmap_unsupported(const io::Light* light, const std::string& name);
+
+// From the light, the camera (may be null when P is given; any resolution: f_px is for
+// `height` rows) and the preset.
+ShadowmapSettings shadowmap_settings(const io::Light& light, const io::Camera* cam,
+                                     double scene_radius, const params::Params& p,
+                                     const std::string& method, int height);
+
+// The map on the host: depths (row 0 at the top), size, nearest depth (1e30 if empty).
+struct ShadowmapData {
+  int width = 0, height = 0;
+  std::vector<float> z;
+  double min_depth = 1e30;
+  uint64_t nonfinite = 0;  // NaN/Inf texels load_shadowmap repaired
+};
+// The map of `s.file`; texels beyond `s.far_clip` become background, as in a map the renderer
+// clipped at its far plane (a backdrop 1e6 away must not set the SAT methods' depth range).
+// NaN/Inf texels are repaired with their farthest finite neighbour (counted in `nonfinite`).
+ShadowmapData load_shadowmap(const ShadowmapSettings& s);
+ShadowmapData make_shadowmap(int width, int height, std::vector<float> z);
 
 }  // namespace isg::effects

@@ -19,53 +19,6 @@ using detail::kPi;
 using detail::V2;
 using detail::V3;
 
-std::string shadowmap_unsupported(const io::Light* light, const std::string& name) {
-  if (!light) return "light " + name + " is not in the scene file";
-  if (!light->shadowmap) return "no shadowmap in the scene file for light " + name;
-  if (light->shadowmap->projection != "perspective")
-    return "shadow map of light " + name + " is not perspective";
-  if (light->type == io::LightType::point) return "point light: hard shadows are already right";
-  return "";
-}
-
-ShadowmapSettings shadowmap_settings(const io::Light& light, const io::Camera* cam,
-                                     double scene_radius, const params::Params& p,
-                                     const std::string& method, int height) {
-  ShadowmapSettings s;
-  s.method = method;
-  s.file = light.shadowmap->file;
-  s.world_to_light = light.shadowmap->world_to_light;
-  s.yfov_deg = light.shadowmap->yfov_deg;
-  s.far_clip = light.shadowmap->far_clip;
-  s.light_radius = light_size(light);
-  s.taps = int(p.integer("shadows.pcss_taps"));
-  s.pattern = p.choice("shadows.pcss_pattern");
-  s.rotate = p.flag("shadows.rotate");
-  s.bias = p.number("shadows.bias");
-  s.slope_max = p.number("shadows.slope_max");
-  s.spread_bias = p.number("shadows.spread_bias");
-  s.max_radius = p.number("shadows.smap_max_radius");
-  s.scene_radius = scene_radius;
-  s.vssm_m = int(p.integer("shadows.vssm_m"));
-  s.vssm_h = int(p.integer("shadows.vssm_h"));
-  s.vssm_leaf_taps = int(p.integer("shadows.vssm_leaf_taps"));
-  s.vssm_flat = p.number("shadows.vssm_flat");
-  s.vssm_contact = p.number("shadows.vssm_contact");
-  s.cssm_order = int(p.integer("shadows.cssm_order"));
-  s.cssm_filter = p.choice("shadows.cssm_filter");
-  s.cssm_max_basis = int(p.integer("shadows.cssm_max_basis"));
-  s.cssm_a = p.number("shadows.cssm_sharpen_a");
-  s.cssm_b = p.number("shadows.cssm_sharpen_b");
-  s.has_camera = cam != nullptr;
-  if (cam) {
-    const auto v = PinholeView::of(*cam, height);
-    s.f_px = v.f_px;
-    s.eye = v.eye;
-    s.rot = v.rot;
-  }
-  return s;
-}
-
 std::vector<float> shadowmap_taps(int n, const std::string& pattern) {
   std::vector<float> t;
   if (pattern == "stratified") {
@@ -102,62 +55,6 @@ std::vector<float> shadowmap_taps(int n, const std::string& pattern) {
     t.push_back(float(q[1]));
   }
   return t;
-}
-
-ShadowmapData make_shadowmap(int width, int height, std::vector<float> z) {
-  ShadowmapData d;
-  d.width = width;
-  d.height = height;
-  d.z = std::move(z);
-  for (float v : d.z)
-    if (v > 0.0f && v < ISG_BACKGROUND_DEPTH) d.min_depth = std::min(d.min_depth, double(v));
-  return d;
-}
-
-ShadowmapData load_shadowmap(const ShadowmapSettings& s) {
-  io::Image img = io::read_exr(s.file);
-  io::Channel* zc = img.find("Z");
-  if (!zc) throw io::IoError(s.file.string() + ": shadow map has no channel Z");
-  auto& z = zc->data;
-  const int W = img.width, H = img.height;
-  const float background = float(10.0 * ISG_BACKGROUND_DEPTH);  // a renderer's background
-  std::vector<size_t> bad;
-  for (size_t i = 0; i < z.size(); ++i) {
-    if (!std::isfinite(z[i])) bad.push_back(i);
-    else if (z[i] > s.far_clip) z[i] = background;
-  }
-  // NaN/Inf texels take the farthest depth among their finite 8-neighbours, ring by ring inwards
-  // for blocks of them: a plausible surface, where background would be a hole in a receiver that
-  // the variance methods see as light bleeding through it (and a NaN would poison every sum of a
-  // summed-area table). The farthest rather than the nearest, so a repair never adds a blocker.
-  const uint64_t nonfinite = bad.size();
-  while (!bad.empty()) {
-    std::vector<std::pair<size_t, float>> fill;
-    std::vector<size_t> left;
-    for (size_t i : bad) {
-      const int x = int(i % size_t(W)), y = int(i / size_t(W));
-      float best = -1.0f;
-      for (int dy = -1; dy <= 1; ++dy)
-        for (int dx = -1; dx <= 1; ++dx) {
-          const int u = x + dx, v = y + dy;
-          if ((dx || dy) && u >= 0 && v >= 0 && u < W && v < H) {
-            const float n = z[size_t(v) * size_t(W) + size_t(u)];
-            if (std::isfinite(n)) best = std::max(best, n);
-          }
-        }
-      if (best >= 0.0f) fill.push_back({i, best});
-      else left.push_back(i);
-    }
-    if (fill.empty()) {  // nothing finite reaches them: no surface at all
-      for (size_t i : left) z[i] = background;
-      break;
-    }
-    for (const auto& [i, v] : fill) z[i] = v;
-    bad = std::move(left);
-  }
-  auto map = make_shadowmap(W, H, std::move(z));
-  map.nonfinite = nonfinite;
-  return map;
 }
 
 std::vector<float> pcss_reference(const ShadowmapInputs& in, const ShadowmapData& map,

@@ -1,0 +1,174 @@
+// Method settings of the soft shadows, resolved from the light, the camera and the preset, and
+// the shadow map read in the load stage (no GPU here: the planner's side).
+#include "effects/shadows/settings.h"
+
+#include <algorithm>
+#include <cmath>
+#include <numbers>
+
+#include "effects/sampling.h"
+#include "effects/shadows/params.h"
+#include "effects/view.h"
+#include "io/image.h"
+#include "shadows_isg_io.h"
+
+namespace isg::effects {
+
+namespace {
+constexpr double kPi = std::numbers::pi;
+constexpr int kTile = SHADOWS_ISG_TILE;
+}  // namespace
+
+double light_size(const io::Light& light) {
+  switch (light.type) {
+    case io::LightType::sphere:
+    case io::LightType::disk: return light.radius;
+    case io::LightType::rect: {
+      const double a = 0.5 * light.size[0], b = 0.5 * light.size[1];
+      return std::sqrt(4.0 * a * b / kPi);
+    }
+    case io::LightType::point: return 0.0;
+  }
+  return 0.0;
+}
+
+std::string shadows_isg_unsupported(const io::Light* light) {
+  if (!light) return "no scene entry for the light: isg needs its position and size";
+  if (light->type == io::LightType::point) return "point light: hard shadows are already right";
+  if (!(light_size(*light) > 0.0)) return "light of size 0: hard shadows are already right";
+  return "";
+}
+
+ShadowSettings shadow_settings(const io::Light& light, const io::Camera& cam, double scene_radius,
+                               const params::Params& p, int height) {
+  ShadowSettings s;
+  s.grid_search = grid_of(p.get(shadow_keys::search_samples));
+  s.grid_gather = grid_of(p.get(shadow_keys::gather_samples));
+  s.sigma = p.get(shadow_keys::sigma);
+  s.scene_radius = scene_radius > 0 ? scene_radius : 1.0;
+  s.max_radius = p.get(shadow_keys::max_radius);
+  s.rotate = p.get(shadow_keys::rotate);
+  s.search_reach = p.get(shadow_keys::search_reach);
+  s.tile_skip = p.get(shadow_keys::tile_skip);
+  s.light = light.position;
+  s.light_size = light_size(light);
+  s.oriented = light.type == io::LightType::disk || light.type == io::LightType::rect;
+  const double nl = std::sqrt(light.normal[0] * light.normal[0] + light.normal[1] * light.normal[1] +
+                              light.normal[2] * light.normal[2]);
+  if (nl > 0) s.light_normal = {light.normal[0] / nl, light.normal[1] / nl, light.normal[2] / nl};
+  const auto v = PinholeView::of(cam, height);
+  s.f_px = v.f_px;
+  s.eye = v.eye;
+  s.rot = v.rot;
+  return s;
+}
+
+uint32_t shadows_isg_tiles_words(uint32_t w, uint32_t h) {
+  const uint32_t nt = ((w + kTile - 1) / kTile) * ((h + kTile - 1) / kTile);
+  return 3 * nt + SHADOWS_ISG_STATS;
+}
+
+std::string shadowmap_unsupported(const io::Light* light, const std::string& name) {
+  if (!light) return "light " + name + " is not in the scene file";
+  if (!light->shadowmap) return "no shadowmap in the scene file for light " + name;
+  if (light->shadowmap->projection != "perspective")
+    return "shadow map of light " + name + " is not perspective";
+  if (light->type == io::LightType::point) return "point light: hard shadows are already right";
+  return "";
+}
+
+ShadowmapSettings shadowmap_settings(const io::Light& light, const io::Camera* cam,
+                                     double scene_radius, const params::Params& p,
+                                     const std::string& method, int height) {
+  ShadowmapSettings s;
+  s.method = method;
+  s.file = light.shadowmap->file;
+  s.world_to_light = light.shadowmap->world_to_light;
+  s.yfov_deg = light.shadowmap->yfov_deg;
+  s.far_clip = light.shadowmap->far_clip;
+  s.light_radius = light_size(light);
+  s.taps = int(p.get(shadow_keys::pcss_taps));
+  s.pattern = p.get(shadow_keys::pcss_pattern);
+  s.rotate = p.get(shadow_keys::rotate);
+  s.bias = p.get(shadow_keys::bias);
+  s.slope_max = p.get(shadow_keys::slope_max);
+  s.spread_bias = p.get(shadow_keys::spread_bias);
+  s.max_radius = p.get(shadow_keys::smap_max_radius);
+  s.scene_radius = scene_radius;
+  s.vssm_m = int(p.get(shadow_keys::vssm_m));
+  s.vssm_h = int(p.get(shadow_keys::vssm_h));
+  s.vssm_leaf_taps = int(p.get(shadow_keys::vssm_leaf_taps));
+  s.vssm_flat = p.get(shadow_keys::vssm_flat);
+  s.vssm_contact = p.get(shadow_keys::vssm_contact);
+  s.cssm_order = int(p.get(shadow_keys::cssm_order));
+  s.cssm_filter = p.get(shadow_keys::cssm_filter);
+  s.cssm_max_basis = int(p.get(shadow_keys::cssm_max_basis));
+  s.cssm_a = p.get(shadow_keys::cssm_sharpen_a);
+  s.cssm_b = p.get(shadow_keys::cssm_sharpen_b);
+  s.has_camera = cam != nullptr;
+  if (cam) {
+    const auto v = PinholeView::of(*cam, height);
+    s.f_px = v.f_px;
+    s.eye = v.eye;
+    s.rot = v.rot;
+  }
+  return s;
+}
+
+ShadowmapData make_shadowmap(int width, int height, std::vector<float> z) {
+  ShadowmapData d;
+  d.width = width;
+  d.height = height;
+  d.z = std::move(z);
+  for (float v : d.z)
+    if (v > 0.0f && v < ISG_BACKGROUND_DEPTH) d.min_depth = std::min(d.min_depth, double(v));
+  return d;
+}
+
+ShadowmapData load_shadowmap(const ShadowmapSettings& s) {
+  io::Image img = io::read_exr(s.file);
+  io::Channel* zc = img.find("Z");
+  if (!zc) throw io::IoError(s.file.string() + ": shadow map has no channel Z");
+  auto& z = zc->data;
+  const int W = img.width, H = img.height;
+  const float background = float(10.0 * ISG_BACKGROUND_DEPTH);  // a renderer's background
+  std::vector<size_t> bad;
+  for (size_t i = 0; i < z.size(); ++i) {
+    if (!std::isfinite(z[i])) bad.push_back(i);
+    else if (z[i] > s.far_clip) z[i] = background;
+  }
+  // NaN/Inf texels take the farthest depth among their finite 8-neighbours, ring by ring inwards
+  // for blocks of them: a plausible surface, where background would be a hole in a receiver that
+  // the variance methods see as light bleeding through it (and a NaN would poison every sum of a
+  // summed-area table). The farthest rather than the nearest, so a repair never adds a blocker.
+  const uint64_t nonfinite = bad.size();
+  while (!bad.empty()) {
+    std::vector<std::pair<size_t, float>> fill;
+    std::vector<size_t> left;
+    for (size_t i : bad) {
+      const int x = int(i % size_t(W)), y = int(i / size_t(W));
+      float best = -1.0f;
+      for (int dy = -1; dy <= 1; ++dy)
+        for (int dx = -1; dx <= 1; ++dx) {
+          const int u = x + dx, v = y + dy;
+          if ((dx || dy) && u >= 0 && v >= 0 && u < W && v < H) {
+            const float n = z[size_t(v) * size_t(W) + size_t(u)];
+            if (std::isfinite(n)) best = std::max(best, n);
+          }
+        }
+      if (best >= 0.0f) fill.push_back({i, best});
+      else left.push_back(i);
+    }
+    if (fill.empty()) {  // nothing finite reaches them: no surface at all
+      for (size_t i : left) z[i] = background;
+      break;
+    }
+    for (const auto& [i, v] : fill) z[i] = v;
+    bad = std::move(left);
+  }
+  auto map = make_shadowmap(W, H, std::move(z));
+  map.nonfinite = nonfinite;
+  return map;
+}
+
+}  // namespace isg::effects
