@@ -203,8 +203,6 @@ void print_timings(isg::gpu::Context& ctx, const isg::run::LoadedFrame& f,
             << " MiB device-local + " << double(mem.staging_peak) / 1048576.0
             << " MiB staging (all allocations, measured); host " << double(ru.ru_maxrss) / 1024.0
             << " MiB resident\n";
-  if (st.dof_cheap_fraction >= 0)
-    std::cout << "dof: " << st.dof_cheap_fraction * 100.0 << "% of tiles took the cheap path\n";
   for (const auto& r : st.reports)
     for (const auto& line : isg::effects::effect_named(r.effect).describe(r)) std::cout << line << "\n";
   // The gather passes against the roofline (a plain cross-bilateral gather, `isg roofline`),

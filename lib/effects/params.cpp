@@ -1,6 +1,5 @@
 #include "effects/params.h"
 
-#include "effects/dof/params.h"
 #include "effects/effect.h"
 #include "effects/output_params.h"
 
@@ -27,44 +26,12 @@ std::vector<params::Def> output_params() {
   };
 }
 
-// Depth of field's table, until dof moves to the effect interface.
-std::vector<params::Def> dof_params() {
-  return {
-      params::def(dof_keys::method, "none", {"none", "isg", "layered"},
-       "depth-of-field method, applied last on the composite (needs depth and the camera): isg "
-       "(the paper's parameter search and gather, eq. 15-17), layered (near and far fields "
-       "gathered apart, the near field composited over the far by its coverage)"),
-      params::def(dof_keys::samples, "64", 1, 1024,
-       "samples per pixel per gather pass, rounded to a square grid through the concentric disk "
-       "map (rotated per pixel)"),
-      params::def(dof_keys::focus_distance, "0", 0, 1e9,
-       "focus distance z_f of eq. 15 (0: the camera's focus_distance)", "scene units"),
-      params::def(dof_keys::fstop, "0", 0, 1024, "f-number (0: the camera's fstop)"),
-      params::def(dof_keys::coc_infinity, "0", 0, 1024,
-       "c_inf of eq. 15, the CoC radius at infinity (0: thin lens from focal length, f-stop, "
-       "focus distance, sensor width and image width)", "pixels"),
-      params::def(dof_keys::coc_scale, "1", 0, 100, "multiplies every circle of confusion"),
-      params::def(dof_keys::max_coc, "32", 0.5, 256,
-       "largest CoC radius; nearer points are clamped to it", "pixels"),
-      params::def(dof_keys::aperture, "disk", {"disk", "polygon"},
-       "aperture (bokeh) shape: the gathers' spatial weight"),
-      params::def(dof_keys::blades, "6", 3, 16, "blades of a polygon aperture"),
-      params::def(dof_keys::rotation, "0", -360, 360, "rotation of a polygon aperture",
-       "degrees"),
-      params::def(dof_keys::tile_skip, "true",
-       "16x16 tiles whose CoC range is under half a pixel take the cheap path (a plain aperture "
-       "average)"),
-  };
-}
-
 std::vector<params::Def> all_params() {
   std::vector<params::Def> all;
   for (const Effect* e : all_effects()) {
     auto t = e->params();
     all.insert(all.end(), t.begin(), t.end());
   }
-  auto d = dof_params();
-  all.insert(all.end(), d.begin(), d.end());
   auto t = output_params();
   all.insert(all.end(), t.begin(), t.end());
   return all;

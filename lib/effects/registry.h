@@ -5,4 +5,4 @@
 
 // X(name): lib/effects/<name>/ defines `const Effect& name##_effect()` and
 // `std::unique_ptr<Recorder> name##_recorder(gpu::Context&)`.
-#define ISG_EFFECTS(X) X(composite) X(shadows) X(reflections)
+#define ISG_EFFECTS(X) X(composite) X(shadows) X(reflections) X(dof)

@@ -61,16 +61,6 @@ std::vector<EffectStatus> capabilities(const io::Roles& roles, const io::Scene& 
     auto s = e->capabilities(roles, scene, has_camera);
     out.insert(out.end(), s.begin(), s.end());
   }
-  {
-    EffectStatus st{"dof", false, "", ""};
-    std::string m;
-    for (const auto& r : {"beauty", "depth"})
-      if (!roles.has(r)) m += (m.empty() ? "" : ", ") + std::string(r);
-    if (!m.empty()) st.why = "missing " + m;
-    else if (!has_camera) st.why = "no camera (scene file, or worldToCamera/worldToNDC in the header)";
-    else st.runs = true;
-    out.push_back(st);
-  }
   return out;
 }
 
@@ -88,34 +78,6 @@ Plan make_plan(const io::Roles& roles, const io::Scene& scene, const params::Par
   const effects::PlanContext c{roles, scene, p, width, height, cam, window};
   effects::PlanOut out(plan.resources, plan.passes, plan.effects, plan.instances, plane_bytes);
   for (const effects::Effect* e : effects::all_effects()) e->plan(c, out);
-  {
-    // Depth of field runs last, on the finished composite (AOV_CONTRACT.md "Output").
-    EffectStatus st{"dof", false, p.choice("dof.method"), ""};
-    if (st.method == "none") st.why = "dof.method = none";
-    else if (!roles.has("depth")) st.why = "missing channels for role depth";
-    else if (!cam) st.why = "no camera (scene file, or worldToCamera/worldToNDC in the header)";
-    else st.runs = true;
-    plan.effects.push_back(st);
-    if (st.runs) {
-      io::Camera cc = *cam;
-      cc.width = window.whole() ? width : window.frame_w;  // CoC in pixels of the frame
-      plan.dof = effects::dof_settings(cc, scene.units, p);
-      out.need("dof.coc", 1, false);
-      out.need("dof.input", 4, false);
-      const uint64_t tiles = uint64_t((width + 15) / 16) * uint64_t((height + 15) / 16);
-      out.buffer("dof.tiles", tiles * 4 * sizeof(float));
-      out.pass("", -1, "dof.coc", "dof.coc", {"composite", "depth"}, {"dof.coc", "dof.input"});
-      out.pass("", -1, "dof.tiles", "dof.tiles", {"dof.coc"}, {"dof.tiles"});
-      if (st.method == "isg") {
-        out.need("dof.radius", 1, false);
-        out.pass("", -1, "dof.search", "dof.search", {"dof.coc", "dof.tiles"}, {"dof.radius"});
-        out.pass("", -1, "dof.gather", "dof.gather", {"dof.input", "dof.coc", "dof.tiles", "dof.radius"}, {"composite"});
-      } else {
-        out.pass("", -1, "dof.layered", "dof.layered", {"dof.input", "dof.coc", "dof.tiles"}, {"composite"});
-      }
-      plan.dof->window = window;
-    }
-  }
   // A tile of a larger frame: every setting takes the window.
   for (auto& i : plan.instances) i->set_window(window);
   // Reach: the effects on the inputs read within their radii (the largest counts: their terms
@@ -128,7 +90,6 @@ Plan make_plan(const io::Roles& roles, const io::Scene& scene, const params::Par
     else
       composite += i->reach();
   }
-  if (plan.dof) composite += 3.0 * (plan.dof->lens.max_coc + 1.0) + 16.0;
   plan.reach = int(std::ceil(inputs + composite));
   return plan;
 }

@@ -5,11 +5,9 @@
 
 #include <cstdint>
 #include <memory>
-#include <optional>
 #include <string>
 #include <vector>
 
-#include "effects/dof/settings.h"
 #include "effects/effect.h"
 #include "io/roles.h"
 #include "io/scene.h"
@@ -28,7 +26,6 @@ struct Plan {
   std::vector<EffectStatus> effects;
   // Each effect application's resolved settings (shadows: one per light), for its passes.
   std::vector<std::shared_ptr<effects::Instance>> instances;
-  std::optional<effects::DofSettings> dof;  // set when depth of field runs
   std::vector<std::string> missing;      // required roles absent: the run cannot go on
   // How far (pixels) any pass reads from a pixel, through every pass after it: the apron a
   // tile needs to compute its pixels as the whole frame would.

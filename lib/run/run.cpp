@@ -2,7 +2,6 @@
 
 #include <chrono>
 
-#include "effects/dof/dof.h"
 
 namespace isg::run {
 
@@ -46,11 +45,6 @@ void Stats::add_tile(const Stats& st) {
     if (it == gathers.end()) gathers.push_back(g);
     else it->pixels += g.pixels;
   }
-  if (st.dof_cheap_fraction >= 0) {
-    const double k = 1.0 / (tiles + 1);
-    dof_cheap_fraction = tiles == 0 ? st.dof_cheap_fraction
-                                    : dof_cheap_fraction + (st.dof_cheap_fraction - dof_cheap_fraction) * k;
-  }
   warnings.insert(st.warnings.begin(), st.warnings.end());
   ++tiles;
 }
@@ -87,29 +81,8 @@ Stats Runner::execute(const plan::Plan& plan, const io::Roles& roles, io::Image&
   t0 = Clock::now();
   const effects::Bindings b(buf, roles, w, h);
   gpu::Sequence seq(ctx_);
-  std::unique_ptr<effects::DofPass> dof;
   for (const auto& p : plan.passes) {
-    if (p.instance >= 0) {
-      recorder(p.effect).record(seq, p, *plan.instances.at(size_t(p.instance)), b);
-      continue;
-    }
-    if (!dof) dof = std::make_unique<effects::DofPass>(ctx_, plan.dof.value());
-    if (p.name == "dof.coc") {
-      dof->record_coc(seq, buf.at("composite"), b.beauty_has_alpha(), buf.at("depth"),
-                      buf.at("dof.coc"), buf.at("dof.input"), w, h);
-    } else if (p.name == "dof.tiles") {
-      dof->record_tiles(seq, buf.at("dof.coc"), buf.at("dof.tiles"), w, h);
-    } else if (p.name == "dof.search") {
-      dof->record_search(seq, buf.at("dof.coc"), buf.at("dof.tiles"), buf.at("dof.radius"), w, h);
-    } else if (p.name == "dof.gather") {
-      dof->record_gather(seq, buf.at("dof.input"), buf.at("dof.coc"), buf.at("dof.tiles"),
-                         buf.at("dof.radius"), buf.at("composite"), w, h);
-    } else if (p.name == "dof.layered") {
-      dof->record_layered(seq, buf.at("dof.input"), buf.at("dof.coc"), buf.at("dof.tiles"),
-                          buf.at("composite"), w, h);
-    } else {
-      throw std::logic_error("planner produced unknown pass " + p.name);
-    }
+    recorder(p.effect).record(seq, p, *plan.instances.at(size_t(p.instance)), b);
   }
   st.record_ms = ms_since(t0);
   t0 = Clock::now();
@@ -122,10 +95,6 @@ Stats Runner::execute(const plan::Plan& plan, const io::Roles& roles, io::Image&
   for (const auto& i : plan.instances) recorder(i->effect).finish(*i, b, img, out);
   st.reports = std::move(out.reports);
   st.gathers = std::move(out.gathers);
-  if (plan.dof) {
-    img.set("dof.coc", buf.at("dof.coc").download_as<float>(img.pixels()), io::Storage::f32);
-    st.dof_cheap_fraction = effects::DofPass::cheap_fraction(buf.at("dof.tiles"), w, h);
-  }
   st.download_ms = ms_since(t0);
   return st;
 }

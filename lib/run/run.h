@@ -22,7 +22,6 @@ namespace isg::run {
 struct Stats {
   std::vector<gpu::PassTime> passes;  // GPU time per pass (timestamp queries)
   double upload_ms = 0, record_ms = 0, gpu_wall_ms = 0, download_ms = 0;
-  double dof_cheap_fraction = -1;  // tiles that took dof's cheap path (-1: dof did not run)
   // Each effect instance's statistics (Effect::describe puts them in words).
   std::vector<effects::Report> reports;
   // The gather passes' load, for samples/s against the roofline (--timings).

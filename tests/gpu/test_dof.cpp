@@ -431,7 +431,7 @@ TEST_F(GpuTest, DofSharedCaseLayeredBeatsIsgInForeground) {
       char label[64];
       std::snprintf(label, sizeof label, "%s %d spp", m == 0 ? "isg" : "layered", spp);
       print(label, errs[m]);
-      std::printf("%-16s GPU %.1f ms, cheap tiles %.1f%%\n", label, st.gpu_ms(), 100 * st.dof_cheap_fraction);
+      std::printf("%-16s GPU %.1f ms, cheap tiles %.1f%%\n", label, st.gpu_ms(), 100 * st.report("dof")->get("cheap"));
     }
     // Clamped at 1 (the case README's second metric): the linear RMSE is ruled by the 8 emitters
     // (values near 40) behind the foreground's halo.

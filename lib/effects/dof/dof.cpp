@@ -20,9 +20,6 @@
 
 namespace isg::effects {
 
-uint32_t dof_tiles_x(uint32_t w) { return (w + DOF_TILE - 1) / DOF_TILE; }
-uint32_t dof_tiles_y(uint32_t h) { return (h + DOF_TILE - 1) / DOF_TILE; }
-
 
 namespace {
 

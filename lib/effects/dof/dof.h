@@ -33,8 +33,6 @@ std::vector<float> dof_layered_reference(const std::vector<float>& rgba,
 // Fraction of tiles that took the cheap path.
 double dof_cheap_fraction(const std::vector<float>& tiles);
 
-uint32_t dof_tiles_x(uint32_t w);
-uint32_t dof_tiles_y(uint32_t h);
 
 // ---- GPU passes ----
 

@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "dof_io.h"
 #include "effects/dof/params.h"
 
 namespace isg::effects {
@@ -40,5 +41,8 @@ DofSettings dof_settings(const io::Camera& cam, const std::string& units, const 
   s.tile_skip = p.get(dof_keys::tile_skip);
   return s;
 }
+
+uint32_t dof_tiles_x(uint32_t w) { return (w + DOF_TILE - 1) / DOF_TILE; }
+uint32_t dof_tiles_y(uint32_t h) { return (h + DOF_TILE - 1) / DOF_TILE; }
 
 }  // namespace isg::effects

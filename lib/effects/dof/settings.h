@@ -1,6 +1,7 @@
 // Depth-of-field settings the planner resolves from the camera and the preset (no GPU here).
 #pragma once
 
+#include <cstdint>
 #include <string>
 
 #include "effects/view.h"
@@ -37,5 +38,9 @@ double mm_per_unit(const std::string& units);
 DofLens dof_lens(const io::Camera& cam, const std::string& units, const params::Params& p);
 
 DofSettings dof_settings(const io::Camera& cam, const std::string& units, const params::Params& p);
+
+// 16x16 tiles (DOF_TILE) across and down: dof.tiles holds 4 floats a tile.
+uint32_t dof_tiles_x(uint32_t w);
+uint32_t dof_tiles_y(uint32_t h);
 
 }  // namespace isg::effects
