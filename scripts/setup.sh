@@ -13,8 +13,8 @@ pkgs=(cmake ninja-build g++ pkg-config
       libopenimageio-dev libopenexr-dev
       libopencolorio-dev libvulkan-dev mesa-vulkan-drivers vulkan-validationlayers glslang-tools
       libcli11-dev libtomlplusplus-dev nlohmann-json3-dev libgtest-dev)
-# The test suite also builds the libFuzzer harnesses with clang.
-[ "$mode" = test ] && pkgs+=(clang libclang-rt-14-dev)
+# The test suite also builds the libFuzzer harnesses with clang, and runs clang-tidy.
+[ "$mode" = test ] && pkgs+=(clang libclang-rt-14-dev clang-tidy)
 # The benchmark drives isg from Python and edits EXRs with oiiotool.
 [ "$mode" = bench ] && pkgs+=(python3 openimageio-tools)
 missing=()

@@ -61,10 +61,10 @@ struct Instance {
 };
 
 template <class T = Instance>
-std::shared_ptr<T> make_instance(std::string effect, std::string key) {
+std::shared_ptr<T> make_instance(const std::string& effect, const std::string& key) {
   auto i = std::make_shared<T>();
-  i->effect = std::move(effect);
-  i->key = std::move(key);
+  i->effect = effect;
+  i->key = key;
   return i;
 }
 

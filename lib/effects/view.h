@@ -39,6 +39,14 @@ void set_split_eye(Push& pc, const std::array<double, 3>& eye) {
   pc.eye_lo_z = float(eye[2] - double(pc.eye_z));
 }
 
+// The world-to-camera rotation (rows) into a pass's push constants r00..r22.
+template <class Push>
+void set_rotation(Push& pc, const std::array<double, 9>& m) {
+  pc.r00 = float(m[0]), pc.r01 = float(m[1]), pc.r02 = float(m[2]);
+  pc.r10 = float(m[3]), pc.r11 = float(m[4]), pc.r12 = float(m[5]);
+  pc.r20 = float(m[6]), pc.r21 = float(m[7]), pc.r22 = float(m[8]);
+}
+
 struct PinholeView {
   double f_px = 1.0;                              // (height / 2) / tan(yfov / 2)
   std::array<double, 3> eye{0, 0, 0};             // camera centre, world

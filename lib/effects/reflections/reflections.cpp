@@ -268,9 +268,7 @@ shaders::ReflIsgPush ReflectionsPass::push(uint32_t w, uint32_t h, bool has_posi
   pc.f_px = float(s_.f_px);
   set_split_eye(pc, s_.eye);
   const auto& m = s_.rot;
-  pc.r00 = float(m[0]), pc.r01 = float(m[1]), pc.r02 = float(m[2]);
-  pc.r10 = float(m[3]), pc.r11 = float(m[4]), pc.r12 = float(m[5]);
-  pc.r20 = float(m[6]), pc.r21 = float(m[7]), pc.r22 = float(m[8]);
+  set_rotation(pc, m);
   return pc;
 }
 

@@ -309,9 +309,7 @@ void ShadowsIsgPass::record(gpu::Sequence& seq, const ShadowSettings& s, const g
   pc.light_ny = float(s.light_normal[1]);
   pc.light_nz = float(s.light_normal[2]);
   const auto& m = s.rot;
-  pc.r00 = float(m[0]), pc.r01 = float(m[1]), pc.r02 = float(m[2]);
-  pc.r10 = float(m[3]), pc.r11 = float(m[4]), pc.r12 = float(m[5]);
-  pc.r20 = float(m[6]), pc.r21 = float(m[7]), pc.r22 = float(m[8]);
+  set_rotation(pc, m);
 
   shaders::ShadowsIsgTilesPush tp{};
   tp.width = w;
@@ -322,9 +320,7 @@ void ShadowsIsgPass::record(gpu::Sequence& seq, const ShadowSettings& s, const g
   tp.cy = pc.cy;
   tp.f_px = pc.f_px;
   set_split_eye(tp, s.eye);
-  tp.r00 = pc.r00, tp.r01 = pc.r01, tp.r02 = pc.r02;
-  tp.r10 = pc.r10, tp.r11 = pc.r11, tp.r12 = pc.r12;
-  tp.r20 = pc.r20, tp.r21 = pc.r21, tp.r22 = pc.r22;
+  set_rotation(tp, m);
 
   // The statistics are accumulated with atomics: start from zero.
   // A tile starts from the whole frame's d_max (eq. 8), as the one-piece run would end with.

@@ -1,0 +1,227 @@
+// `isg run`: one frame or a sequence, and what --timings prints.
+#include <sys/resource.h>
+#include <unistd.h>
+
+#include <iomanip>
+#include <iostream>
+#include <sstream>
+
+#include "cli.h"
+#include "effects/effect.h"
+#include "effects/output_params.h"
+#include "gpu/gpu.h"
+#include "io/color.h"
+#include "roofline/roofline.h"
+#include "run/job.h"
+#include "run/run.h"
+#include "run/sequence.h"
+
+namespace isg::cli {
+
+namespace fs = std::filesystem;
+
+namespace {
+
+
+isg::run::JobConfig make_job(const RunArgs& a, isg::params::Params p) {
+  isg::run::JobConfig job{load_scene(a.common), a.common.scene, std::move(p), {}, {}, {}, a.input_colorspace, ISG_VERSION};
+  job.request = role_request(a.common, job.params, job.scene);
+  job.limits = limits_of(job.params);
+  job.write = {job.params.get(isg::effects::output_keys::compression), a.no_clobber};
+  return job;
+}
+
+isg::gpu::Context make_context(const RunArgs& a) {
+  isg::gpu::ContextOptions copt;
+  copt.device = a.device;
+  copt.require_gpu = a.require_gpu;
+  copt.validation = a.validation;
+  copt.pipeline_cache = isg::gpu::default_pipeline_cache();
+  copt.on_message = [](const std::string& m) { std::cerr << "isg: vulkan: " << m << "\n"; };
+  return isg::gpu::Context(copt);
+}
+
+void warn_nonfinite(const isg::run::LoadedFrame& f) {
+  for (const auto& w : isg::run::nonfinite_warnings(f)) std::cerr << "isg: warning: " << w << "\n";
+}
+
+void print_timings(isg::gpu::Context& ctx, const isg::run::LoadedFrame& f,
+                   const isg::run::Stats& st, double init_ms, double write_ms, double total_ms) {
+  std::cout << std::fixed << std::setprecision(3);
+  std::cout << "device: " << ctx.info().name << " (" << ctx.info().type_name << ")\n";
+  std::cout << "GPU time per pass (timestamp queries):\n";
+  for (const auto& t : st.passes)
+    std::cout << "  " << std::left << std::setw(std::max(28, int(t.name.size()) + 1)) << t.name << t.ms << " ms\n";
+  std::cout << "  " << std::setw(28) << "total" << st.gpu_ms() << " ms\n";
+  std::cout << "wall: read " << f.read_ms << " ms, device init " << init_ms << " ms, upload "
+            << st.upload_ms << " ms, record " << st.record_ms << " ms, submit+wait "
+            << st.gpu_wall_ms << " ms, download " << st.download_ms << " ms, write " << write_ms
+            << " ms, total " << total_ms << " ms\n";
+  std::cout << "GPU memory for the plan: " << f.plan.gpu_bytes() / 1024 << " KiB";
+  if (st.tiles > 0)
+    std::cout << " (one piece; processed in " << st.tiles << " tiles: "
+              << f.img.attributes.get_string("isg:tiles") << ")";
+  std::cout << "\n";
+  const auto& mem = ctx.memory_use();
+  rusage ru{};
+  getrusage(RUSAGE_SELF, &ru);
+  std::cout << "memory peak: GPU " << double(mem.device_peak) / 1048576.0
+            << " MiB device-local + " << double(mem.staging_peak) / 1048576.0
+            << " MiB staging (all allocations, measured); host " << double(ru.ru_maxrss) / 1024.0
+            << " MiB resident\n";
+  for (const auto& r : st.reports)
+    for (const auto& line : isg::effects::effect_named(r.effect).describe(r)) std::cout << line << "\n";
+  // The gather passes against the roofline (a plain cross-bilateral gather, `isg roofline`),
+  // measured now on the same device at the frame's size.
+  double roof = 0;
+  if (!st.gathers.empty())
+    roof = isg::roofline::roofline_taps_per_second(ctx, std::max(f.img.width, 64), std::max(f.img.height, 64));
+  for (const auto& g : st.gathers) {
+    double ms = 0;
+    for (const auto& t : st.passes) ms += t.name == g.pass ? t.ms : 0.0;
+    const double rate = ms > 0 ? double(g.pixels) * double(g.samples_per_pixel) / (ms * 1e-3) : 0.0;
+    std::cout << g.pass << ": " << g.pixels << " pixels x " << g.samples_per_pixel << " samples, "
+              << rate * 1e-6 << " M samples/s = " << (roof > 0 ? 100.0 * rate / roof : 0.0)
+              << "% of the roofline (" << roof * 1e-6 << " M taps/s, isg roofline)\n";
+  }
+}
+
+int run_single(const RunArgs& a, isg::run::JobConfig& job) {
+  auto t_start = Clock::now();
+  if (a.dry_run) {
+    auto f = isg::run::plan_frame(job, a.input);
+    std::cout << f.plan.describe();
+    return f.plan.missing.empty() ? kOk : kError;
+  }
+  isg::io::check_writable(a.output, job.write);
+  if (!a.preview.empty()) isg::io::check_writable(a.preview, job.write);
+  auto f = isg::run::load_frame(job, a.input);
+  warn_nonfinite(f);
+  auto t_gpu = Clock::now();
+  auto ctx = make_context(a);
+  double init_ms = ms_since(t_gpu);
+  auto st = isg::run::process_frame(ctx, job, f);
+  for (const auto& w : st.warnings) std::cerr << "isg: warning: " << w << "\n";
+  double write_ms = isg::run::write_frame(job, f, a.output);
+  std::cout << "wrote " << a.output << " (" << f.img.width << "x" << f.img.height << ", "
+            << f.img.channels.size() << " channels)\n";
+  if (!a.preview.empty()) {
+    auto pic = isg::io::display_picture(f.img, {"R", "G", "B"}, {});
+    isg::io::write_picture(a.preview, f.img.width, f.img.height, pic, a.no_clobber);
+    std::cout << "wrote " << a.preview << " (display picture, OpenColorIO "
+              << isg::io::color_config_description() << ")\n";
+  }
+  if (a.timings) print_timings(ctx, f, st, init_ms, write_ms, ms_since(t_start));
+  return kOk;
+}
+
+// Progress on a terminal (one line, redrawn) or plain lines for logs.
+class Progress {
+ public:
+  explicit Progress(size_t total) : total_(total), tty_(::isatty(2)), start_(Clock::now()) {}
+  void frame(const std::string& what, bool done_one) {
+    if (done_one) ++done_;
+    double s = ms_since(start_) / 1000.0;
+    double rate = s > 0 ? double(done_) / s : 0;
+    double eta = rate > 0 ? double(total_ - done_ - skipped_ - failed_) / rate : 0;
+    std::ostringstream line;
+    line << std::fixed << std::setprecision(2) << done_ + skipped_ + failed_ << "/" << total_
+         << " frames, " << rate << " fps, ETA " << std::setprecision(0) << eta << " s";
+    if (tty_) {
+      size_t n = done_ + skipped_ + failed_;
+      int width = 30, filled = total_ ? int(width * n / total_) : width;
+      std::cerr << "\r[" << std::string(filled, '=') << std::string(width - filled, ' ') << "] "
+                << line.str() << "  " << what << "\x1b[K" << std::flush;
+    } else {
+      std::cerr << what << " (" << line.str() << ")\n";
+    }
+  }
+  void skipped(const std::string& what) {
+    ++skipped_;
+    frame(what, false);
+  }
+  void failed(const std::string& msg) {
+    ++failed_;
+    if (tty_) std::cerr << "\r\x1b[K";
+    std::cerr << "isg: error: " << msg << "\n";
+  }
+  void finish() {
+    if (tty_) std::cerr << "\n";
+  }
+  size_t done() const { return done_; }
+  size_t failed_count() const { return failed_; }
+  size_t skipped_count() const { return skipped_; }
+  double seconds() const { return ms_since(start_) / 1000.0; }
+
+ private:
+  size_t total_, done_ = 0, skipped_ = 0, failed_ = 0;
+  bool tty_;
+  Clock::time_point start_;
+};
+
+// A frame range (lib/run/sequence.h schedules it; here it is printed).
+class ProgressObserver final : public isg::run::SequenceObserver {
+ public:
+  explicit ProgressObserver(Progress& p) : p_(p) {}
+  void skipped(const std::string& what) override { p_.skipped(what); }
+  void written(const std::string& what) override { p_.frame(what, true); }
+  void failed(const std::string& message) override { p_.failed(message); }
+  void warning(const std::string& message) override { std::cerr << "isg: warning: " << message << "\n"; }
+
+ private:
+  Progress& p_;
+};
+
+int run_sequence(const RunArgs& a, isg::run::JobConfig& job) {
+  const auto seq = isg::run::sequence_options(a.input, a.output, a.frames, a.skip_existing, a.keep_going);
+  if (a.dry_run) {
+    auto f = isg::run::plan_frame(job, isg::run::expand_pattern(a.input, seq.frames.front()));
+    std::cout << seq.frames.size() << " frames; first frame's " << f.plan.describe();
+    return f.plan.missing.empty() ? kOk : kError;
+  }
+  isg::io::check_writable(isg::run::expand_pattern(a.output, seq.frames.front()), {job.write.compression, false});
+  Progress progress(seq.frames.size());
+  ProgressObserver obs(progress);
+  const auto todo = isg::run::frames_to_do(seq, obs);
+  if (todo.empty()) {
+    progress.finish();
+    std::cout << "nothing to do: all " << seq.frames.size() << " outputs exist\n";
+    return kOk;
+  }
+  auto ctx = make_context(a);
+  isg::run::Runner runner(ctx);
+  const auto res = isg::run::run_sequence(runner, job, seq, todo, obs);
+  progress.finish();
+  std::cout << std::fixed << std::setprecision(2) << "frames: " << progress.done() << " written, "
+            << progress.skipped_count() << " skipped (existing), " << progress.failed_count()
+            << " failed, in " << progress.seconds() << " s ("
+            << (progress.seconds() > 0 ? double(progress.done()) / progress.seconds() : 0.0)
+            << " fps; GPU " << res.gpu_ms << " ms)\n";
+  if (progress.failed_count() == 0) return kOk;
+  return a.keep_going ? kSomeFramesFailed : kError;
+}
+
+}  // namespace
+
+int cmd_run(const RunArgs& a) {
+  auto p = build_params(a.common, a.compression);
+  if (a.print_preset) {
+    std::cout << p.to_toml();
+    return kOk;
+  }
+  if (a.input.empty()) throw isg::io::IoError("isg run: no input file given");
+  if (a.output.empty() && !a.dry_run) throw isg::io::IoError("isg run: no output given (-o FILE)");
+  auto job = make_job(a, std::move(p));
+  if (isg::run::is_sequence_pattern(a.input) && !fs::exists(a.input)) return run_sequence(a, job);
+  if (!a.frames.empty()) throw isg::io::IoError(a.input + ": --frames needs a frame pattern (#### or %04d) in the input");
+  if (!a.dry_run) {
+    std::error_code ec;
+    if (fs::exists(a.output, ec) && fs::equivalent(a.input, a.output, ec)) {
+      throw isg::io::IoError(a.output + ": is the input file; isg never overwrites its input");
+    }
+  }
+  return run_single(a, job);
+}
+
+
+}  // namespace isg::cli
