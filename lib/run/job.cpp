@@ -194,7 +194,7 @@ Stats execute_tiled(gpu::Context& ctx, const JobConfig& job, LoadedFrame& f, int
         total.gathers = st.gathers;
       } else {
         for (size_t j = 0; j < total.gathers.size() && j < st.gathers.size(); ++j)
-          total.gathers[j].pixels += st.gathers[j].pixels;
+          total.gathers[j].pixels += st.gathers[j].pixels, total.gathers[j].samples += st.gathers[j].samples;
         const double k = 1.0 / tiles;
         for (size_t j = 0; j < total.shadows.size() && j < st.shadows.size(); ++j) {
           auto& a = total.shadows[j];

@@ -187,7 +187,8 @@ Stats execute(gpu::Context& ctx, const plan::Plan& plan, const io::Roles& roles,
       st.shadows.push_back({l, t.skipped_fraction, t.clamped_pixels, t.full_pixels});
       const auto& ss = plan.shadows.at(l);
       st.gathers.push_back({"shadows.isg[" + l + "]", t.full_pixels,
-                            uint64_t(ss.grid_search * ss.grid_search + ss.grid_gather * ss.grid_gather)});
+                            t.full_pixels * uint64_t(ss.grid_search * ss.grid_search +
+                                                     ss.grid_gather * ss.grid_gather)});
     }
   }
   if (plan.refl) {
@@ -197,8 +198,8 @@ Stats execute(gpu::Context& ctx, const plan::Plan& plan, const io::Roles& roles,
     st.refl_skipped_fraction = rt.skipped_fraction;
     const auto& rs = plan.refl.value();
     st.gathers.push_back({"reflections." + rs.method, rt.glossy_pixels,
-                          uint64_t(rs.method == "blur" ? 0 : rs.grid_search * rs.grid_search) +
-                              uint64_t(rs.grid_gather * rs.grid_gather)});
+                          rt.searches * uint64_t(rs.grid_search * rs.grid_search) +
+                              rt.glossy_pixels * uint64_t(rs.grid_gather * rs.grid_gather)});
   }
   if (plan.dof) {
     img.set("dof.coc", buf.at("dof.coc").download_as<float>(n), io::Storage::f32);

@@ -37,10 +37,10 @@ struct Stats {
   };
   std::vector<ShadowmapSkip> shadowmaps;
   // The gather passes' load, for samples/s against the roofline (--timings): pixels that ran
-  // the search and gather, and lattice samples per pixel (search + gather).
+  // the search and gather, and the lattice samples taken in all (search + gather).
   struct GatherLoad {
     std::string pass;  // its label in `passes`
-    uint64_t pixels = 0, samples_per_pixel = 0;
+    uint64_t pixels = 0, samples = 0;
   };
   std::vector<GatherLoad> gathers;
   int tiles = 0;  // large plates: tiles the frame was processed in (0: one piece)
