@@ -23,6 +23,7 @@ import concurrent.futures
 import json
 import os
 import shutil
+import signal
 import socket
 import subprocess
 import sys
@@ -276,6 +277,11 @@ def main():
     if missing:
         print("SKIP: not installed: " + " ".join(missing) + " (scripts/setup.sh test installs them)")
         return SKIP
+    # A timeout (ctest's SIGTERM) or ^C still stops the daemons, in the finally below.
+    def stop_on(signum, frame):
+        raise SystemExit(f"signal {signum}")
+    for sig in (signal.SIGTERM, signal.SIGINT, signal.SIGHUP):
+        signal.signal(sig, stop_on)
     t0 = time.monotonic()
     root = tempfile.mkdtemp(prefix="isg-slurm-")
     c = Cluster(root)
@@ -284,6 +290,7 @@ def main():
         why = c.start()
         if why:
             print("SKIP: the one-node Slurm cluster did not start: " + why)
+            ok = True  # nothing to keep
             return SKIP
         up_s = time.monotonic() - t0
         print(f"cluster up in {up_s:.1f} s (munged, slurmctld, slurmd: pids "
