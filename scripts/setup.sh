@@ -13,8 +13,11 @@ pkgs=(cmake ninja-build g++ pkg-config
       libopenimageio-dev libopenexr-dev
       libopencolorio-dev libvulkan-dev mesa-vulkan-drivers vulkan-validationlayers glslang-tools
       libcli11-dev libtomlplusplus-dev nlohmann-json3-dev libgtest-dev)
-# The test suite also builds the libFuzzer harnesses with clang.
-[ "$mode" = test ] && pkgs+=(clang libclang-rt-14-dev)
+# The test suite also builds the libFuzzer harnesses with clang, starts a one-node Slurm cluster
+# for `isg farm` (slurm-wlm, munge; tests/farm) and builds and tests the Python module (pybind11,
+# NumPy and pytest for Debian's python3; tests/python).
+[ "$mode" = test ] && pkgs+=(clang libclang-rt-14-dev slurm-wlm munge
+                            python3 python3-dev pybind11-dev python3-numpy python3-pytest)
 # The benchmark drives isg from Python and edits EXRs with oiiotool.
 [ "$mode" = bench ] && pkgs+=(python3 openimageio-tools)
 missing=()
