@@ -5,7 +5,8 @@ Run inside Blender by make_cases.sh, with the shared script's arguments:
 
 The shared script is loaded as a module and runs unchanged, except that its `build` is wrapped: the
 shared kinds are built by it; then the floor is moved to floor.loc, objects with `rot` are rotated,
-and the kinds it does not know (monkey, torus) are added with its own diffuse material. After its
+and the kinds it does not know (monkey, torus) are added with its own diffuse material. Scenes far
+from the origin get their ray casts near it (far_ray_casts). After its
 `main`, the scene file's matrices in meta.json are replaced by the double-precision inverses of the
 float32 matrix_world that Cycles rendered with (Blender's own inverse is float32: centimetres of error
 at 1e5 m; at the origin the two agree to ~1e-7).
@@ -71,6 +72,43 @@ def build(sc):
     return S
 
 
+def far_ray_casts(S, sc_def, work):
+    """key.occluder and refl.dist for scenes far from the origin. Blender's scene.ray_cast works in
+    float32 and misses most occluders there (93% of contact's umbra pixels at 1e5 m), so the shared
+    ray casts run on the scene moved back by its offset, from P - offset formed in float64, with
+    the origin lifted along N by 1e-3 m plus P's own float32 step (P is rounded by up to 0.87 step)."""
+    off = np.array(sc_def["offset"], np.float64)
+    movers = [o for o in bpy.data.objects if o.type in ("MESH", "CAMERA")]
+    saved = {o.name: tuple(o.location) for o in movers}
+    for o in movers:   # float32 location minus the offset: exact near the origin
+        o.location = tuple(float(v) - d for v, d in zip(saved[o.name], off))
+    bpy.context.view_layer.update()
+    read, eps = rc.read_exr, rc.RAY_EPS
+
+    def read_moved(path):
+        d = read(path)
+        if path.endswith("/aov.exr"):
+            A = d["ViewLayer.Combined.A"].astype(np.float64)
+            for c, v in zip("XYZ", off):   # Position is accumulated like colour: P * alpha
+                d[f"ViewLayer.Position.{c}"] = d[f"ViewLayer.Position.{c}"].astype(np.float64) - v * A
+        return d
+
+    step = float(np.spacing(np.float32(np.abs(off).max() + sc_def["floor"]["size"])))
+    rc.read_exr, rc.RAY_EPS = read_moved, 1e-3 + step
+    try:
+        moved = dict(sc_def, key=dict(sc_def["key"], pos=tuple(np.array(sc_def["key"]["pos"]) - off)))
+        return _shared_ray_casts(S, moved, work)
+    finally:
+        rc.read_exr, rc.RAY_EPS = read, eps
+        for o in movers:
+            o.location = saved[o.name]
+        bpy.context.view_layer.update()
+
+
+def ray_casts(S, sc_def, work):
+    return far_ray_casts(S, sc_def, work) if sc_def.get("far") else _shared_ray_casts(S, sc_def, work)
+
+
 def exact_matrices(work):
     """world_to_camera / world_to_light as float64 inverses of the float32 transforms Cycles used."""
     path = f"{work}/meta.json"
@@ -82,8 +120,8 @@ def exact_matrices(work):
     json.dump(meta, open(path, "w"), indent=1)
 
 
-_shared_build = rc.build
-rc.build = build
+_shared_build, _shared_ray_casts = rc.build, rc.ray_casts
+rc.build, rc.ray_casts = build, ray_casts
 
 if __name__ == "__main__":
     rc.main()

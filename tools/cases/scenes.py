@@ -37,7 +37,7 @@ def shifted(sc, d):
     s["floor"]["loc"] = add(s["floor"].get("loc", (0.0, 0.0, 0.0)))
     s["key"]["pos"] = add(s["key"]["pos"])
     s["cam"]["pos"], s["cam"]["target"] = add(s["cam"]["pos"]), add(s["cam"]["target"])
-    s["far"] = True
+    s["far"], s["offset"] = True, tuple(d)
     return s
 
 
@@ -56,10 +56,14 @@ for exp in (5, 6):
                   f"error comes from float32 precision: Cycles writes P as float32, whose step is "
                   f"{2.0 ** ((16 if exp == 5 else 19) - 23):.4g} m at this distance. " + SCENES["contact"]["about"])
     s["spp"] = dict(OWN_SPP)
-    s["notes"] = ("Far from the origin Cycles itself intersects in float32: its vertices, hit points and the scene "
-                  "file's matrices carry errors of the order of P's step (world_to_camera and world_to_light here are "
+    s["notes"] = ("Far from the origin Cycles itself works in float32: its vertices (transformed to world space), hit "
+                  "points and P carry errors of the order of P's step, so the tessellated sphere is visibly bumpy and "
+                  "self-shadows in key.shadow and in the reference alike; world_to_camera and world_to_light here are "
                   "the double-precision inverses of Blender's float32 matrix_world, i.e. of the transforms Cycles "
-                  "rendered with). The matrix checks are measured and reported but not asserted (see above).")
+                  "rendered with. key.occluder and refl.dist come from ray casts on the scene moved back to the origin "
+                  "(Blender's float32 scene.ray_cast misses most occluders out here), from P - offset formed in "
+                  "float64, the origin lifted along N by 1e-3 m plus P's step. The matrix checks are measured and "
+                  "reported but not asserted (see above).")
     SCENES[f"contact-far1e{exp}"] = s
 
 SCENES["lowlight"] = dict(
