@@ -121,11 +121,13 @@ def report(res):
          "P: positions from the P channels; Z: the same AOVs without P, positions formed from Z and the camera. "
          "Default settings of every method; reflections and depth of field off.", "",
          f"Machine: {res['machine']}; device: {res.get('device', '?')}.", "",
-         "| method | " + " | ".join(f"{n} P | {n} Z" for n in names) + " |",
-         "|---|" + "---|---|" * len(names)]
-    for m in methods:
-        L.append(f"| {m} | " + " | ".join(f"{cell(cases[n], m, 'P')} | {cell(cases[n], m, 'Z')}" for n in names) + " |")
-    L += ["", "Doing nothing (RMSE of the hard `key.shadow`), and each method's RMSE:", "",
+         "| case | hard RMSE | " + " | ".join(f"{m} P | {m} Z" for m in methods) + " |",
+         "|---|---|" + "---|---|" * len(methods)]
+    for n in names:
+        r = cases[n]
+        h = f"{r['rmse']['hard-P']:.4f}" if "hard-P" in r["rmse"] else "-"
+        L.append(f"| {n} | {h} | " + " | ".join(f"{cell(r, m, 'P')} | {cell(r, m, 'Z')}" for m in methods) + " |")
+    L += ["", "The RMSEs themselves:", "",
           "| case | hard | " + " | ".join(f"{m} P | {m} Z" for m in methods) + " |",
           "|---|---|" + "---|---|" * len(methods)]
     for n in names:
@@ -135,7 +137,9 @@ def report(res):
     fails = [(n, k, msg) for n in names for k, msg in cases[n]["failed"].items()]
     if fails:
         L += ["", "Failed runs (isg's one-line error):", ""] + [f"- {n}, {k}: `{msg}`" for n, k, msg in fails]
-    L += ["", "Cases: " + "; ".join(f"{n}: `{cases[n]['dir']}`" for n in names) + ".", ""]
+    repo = os.path.dirname(HERE)
+    L += ["", "Cases (relative to the repository): " +
+          "; ".join(f"{n}: `{os.path.relpath(cases[n]['dir'], repo)}`" for n in names) + ".", ""]
     os.makedirs(PAGES, exist_ok=True)
     open(os.path.join(PAGES, "shadow_cases.md"), "w").write("\n".join(L))
     print("wrote docs/benchmark/shadow_cases.md")
