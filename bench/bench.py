@@ -2,7 +2,7 @@
 """The benchmark (issue 9), one command for every page:
 
     python3 bench/bench.py [--build build] [--cases ../shared/cases] [--repeat 2]
-                           [--skip stability,shadowmap,scaling,roofline,speed] [--from-json]
+                           [--skip stability,shadowmap,shadowcases,scaling,roofline,speed] [--from-json]
 
 1. Speed against error, this page (docs/benchmark.md): every effect x method x setting on every
    ../shared/cases/* that has ref/drt/timings.json and on isg-synth contact, stack, gloss and dof
@@ -17,6 +17,8 @@
 2. bench/stability.py  -> docs/benchmark/stability.md (far world, depth range, grazing, 4096²
    maps, half floats, NaN/Inf: every method's error on each)
 3. bench/shadowmap_methods.py -> docs/benchmark/shadowmap_methods.md
+   bench/shadow_cases.py -> docs/benchmark/shadow_cases.md (every shadow method on every Cycles
+   case with a soft-shadow reference, shared and the repository's own, from P and from Z)
 4. bench/scaling.py    -> docs/benchmark/scaling.md (pixels, samples, map size, kernel radius)
 5. bench/roofline.py   -> docs/benchmark/roofline.md (a plain cross-bilateral gather's taps/s,
    the yardstick for the gather passes)
@@ -38,7 +40,7 @@ ap.add_argument("--synth-size", default="480x270")
 ap.add_argument("--synth-spp", type=int, default=256, help="isg-synth reference samples per pixel")
 ap.add_argument("--only", default="", help="comma-separated case names (e.g. contact,synth-gloss): "
                 "run only these, for a quick look (the page then shows only them)")
-ap.add_argument("--skip", default="", help="comma-separated: pareto, stability, shadowmap, scaling, roofline, speed")
+ap.add_argument("--skip", default="", help="comma-separated: pareto, stability, shadowmap, shadowcases, scaling, roofline, speed")
 ap.add_argument("--from-json", action="store_true", help="rewrite the pages from bench/out/*.json")
 a = ap.parse_args()
 skip = set(filter(None, a.skip.split(",")))
@@ -328,6 +330,7 @@ def report():
          "doing nothing. ★ = on the Pareto front (no run both faster and lower in composite error).", "",
          "Companion pages: [numerical stability](benchmark/stability.md) · "
          "[shadow-map methods against isg](benchmark/shadowmap_methods.md) · "
+         "[shadow methods on more Cycles cases](benchmark/shadow_cases.md) · "
          "[scaling](benchmark/scaling.md) · [roofline gather](benchmark/roofline.md) · [speed against file I/O](benchmark/speed.md).", "",
          "## Summary: per case, isg's best run and its fastest good one, against the renderer", "",
          "*best*: the lowest composite error of any method and setting; *fastest ≤ ½*: the fastest run "
@@ -393,6 +396,7 @@ report()
 common = ["--build", a.build]
 for name, script, extra in (("stability", "stability.py", ["--cases", a.cases]),
                             ("shadowmap", "shadowmap_methods.py", ["--cases", a.cases]),
+                            ("shadowcases", "shadow_cases.py", ["--cases", a.cases]),
                             ("scaling", "scaling.py", []),
                             ("roofline", "roofline.py", []),
                             ("speed", "speed.py", [])):

@@ -5,6 +5,7 @@
 #include <new>
 
 #include "cli.h"
+#include "farm.h"
 
 using namespace isg::cli;
 
@@ -79,10 +80,13 @@ int main(int argc, char** argv) {
   roofline->add_option("--device", rl_device, "device index or name (see `isg devices`)");
   roofline->add_flag("--json", rl_json, "one JSON object");
 
+  isg::cli::FarmCommand farm(app);
+
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
-    return app.exit(e);
+    // Any bad command line exits 2 (docs/farm.md), whichever CLI11 error it was.
+    return app.exit(e) == 0 ? 0 : kUsage;
   }
   try {
     if (*run) return cmd_run(ra);
@@ -92,6 +96,7 @@ int main(int argc, char** argv) {
     if (*presets) return cmd_presets();
     if (*params_cmd) return cmd_params(params_md);
     if (*roofline) return cmd_roofline(rl, rl_device, rl_json);
+    if (farm.parsed()) return farm.run();
   } catch (const std::bad_alloc&) {
     std::cerr << "isg: error: out of memory\n";
     return 1;

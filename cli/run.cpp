@@ -79,8 +79,9 @@ void print_timings(isg::gpu::Context& ctx, const isg::run::LoadedFrame& f,
   for (const auto& g : st.gathers) {
     double ms = 0;
     for (const auto& t : st.passes) ms += t.name == g.pass ? t.ms : 0.0;
-    const double rate = ms > 0 ? double(g.pixels) * double(g.samples_per_pixel) / (ms * 1e-3) : 0.0;
-    std::cout << g.pass << ": " << g.pixels << " pixels x " << g.samples_per_pixel << " samples, "
+    const double rate = ms > 0 ? double(g.samples) / (ms * 1e-3) : 0.0;
+    std::cout << g.pass << ": " << g.pixels << " pixels, " << g.samples << " samples ("
+              << (g.pixels ? double(g.samples) / double(g.pixels) : 0.0) << " a pixel), "
               << rate * 1e-6 << " M samples/s = " << (roof > 0 ? 100.0 * rate / roof : 0.0)
               << "% of the roofline (" << roof * 1e-6 << " M taps/s, isg roofline)\n";
   }

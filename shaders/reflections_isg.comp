@@ -5,7 +5,7 @@
 // every step in double.
 // Speed (issue 18): every tap is one point sample of two packed texels (reflections.pack); the
 // sample lattice comes from a table made on the host; the lobe warp is algebraic (no atan/tan/cos
-// per tap).
+// per tap); the search runs once per 2×2 quad.
 #extension GL_GOOGLE_include_directive : require
 #include "reflections_isg_io.h"
 #include "isg_sampling.h"
@@ -71,59 +71,73 @@ vec3 refl_blur(uvec2 p, uint i) {
   return s / ws;
 }
 
-vec3 refl_isg(uvec2 p, uint i) {
-  vec2 p0 = vec2(p + uvec2(pc.origin & 0xffffu, pc.origin >> 16)) + 0.5;  // frame coordinates
+// The pixel's lobe: the cone of eq. 13 and its screen footprint (eq. 14).
+struct Lobe {
+  vec2 p0;  // frame coordinates of the pixel centre
+  vec3 P0, N0;
+  float e, cos_i, alpha, theta_max, R_full, R_p;
+  mat2 F;  // footprint axes with the pixel's rotation folded in: offset = F · lattice point
+};
+
+Lobe lobe_at(uvec2 p, uint i) {
+  Lobe L;
+  L.p0 = vec2(p + uvec2(pc.origin & 0xffffu, pc.origin >> 16)) + 0.5;
   uvec4 g0 = pack_geo[i];
-  vec3 P0 = uintBitsToFloat(g0.xyz), N0 = isg_oct_decode(g0.w);
-  float e = max(length(P0), 1e-6);
-  vec3 V = -P0 / e;
-  float cos_i = clamp(dot(N0, V), REFL_MIN_COS, 1.0);
-  float alpha = roughness_at(i) * roughness_at(i);
+  L.P0 = uintBitsToFloat(g0.xyz);
+  L.N0 = isg_oct_decode(g0.w);
+  L.e = max(length(L.P0), 1e-6);
+  vec3 V = -L.P0 / L.e;
+  L.cos_i = clamp(dot(L.N0, V), REFL_MIN_COS, 1.0);
+  L.alpha = roughness_at(i) * roughness_at(i);
   // The cone holding the fraction E of the lobe: tan θ_h = α·sqrt(E/(1−E)), θ_max = 2·θ_h.
-  float theta_max = min(2.0 * atan(alpha * pc.tan_h_factor), REFL_MAX_THETA);
-  float R_full = pc.f_px * tan(theta_max);  // eq. 13 as E → ∞, in pixels
-  float R_p = min(R_full, pc.max_radius);
+  L.theta_max = min(2.0 * atan(L.alpha * pc.tan_h_factor), REFL_MAX_THETA);
+  L.R_full = pc.f_px * tan(L.theta_max);  // eq. 13 as E → ∞, in pixels
+  L.R_p = min(L.R_full, pc.max_radius);
   // Footprint axes: along the screen image of the plane of incidence the lobe keeps its width;
   // across it the reflected lobe narrows by cos θ_incident (eq. 14 on that axis only).
   vec2 d_maj = vec2(1.0, 0.0);
-  float minor = cos_i;
   if ((pc.flags & 4u) != 0u) {
-    vec2 d = project(P0 + N0 * (0.01 * e)) - project(P0);
+    vec2 d = project(L.P0 + L.N0 * (0.01 * L.e)) - project(L.P0);
     if (length(d) > 1e-6) d_maj = normalize(d);
   }
   vec2 d_min = vec2(-d_maj.y, d_maj.x);
-  float maj = (pc.flags & 4u) != 0u ? 1.0 : cos_i;
-  mat2 Rot = pixel_rotation(p);
-  // The footprint's screen axes with the pixel's rotation folded in: offset = F · lattice point.
-  mat2 F = mat2(maj * d_maj, minor * d_min) * Rot;
+  float maj = (pc.flags & 4u) != 0u ? 1.0 : L.cos_i;
+  L.F = mat2(maj * d_maj, L.cos_i * d_min) * pixel_rotation(p);
+  return L;
+}
 
-  // Parameter search (eq. 4, constant spatial weight, eq. 10 range) over t = E/(e+E), the
-  // ratio of eq. 13: bounded, and 1 for misses (infinitely far).
+// Parameter search (eq. 4, constant spatial weight, eq. 10 range) over t = E/(e+E), the ratio
+// of eq. 13: bounded, and 1 for misses (infinitely far).
+float search(Lobe L, uint i) {
   float d0 = pack_color[i].w;
-  float st = d0 > 0.0 ? d0 / (e + d0) : 1.0;
+  float st = d0 > 0.0 ? d0 / (L.e + d0) : 1.0;
   float sw = 1.0;
   if (d0 <= 0.0 && (pc.flags & 8u) == 0u) { st = 0.0; sw = 0.0; }
   uint gs = pc.grids & 0xffffu;
-  mat2 FR = R_p * F;
+  mat2 FR = L.R_p * L.F;
   for (uint k = 0u; k < gs * gs; ++k) {
     vec4 u = samples[k];
-    uint t = tap(p0 + FR * u.xy);
+    uint t = tap(L.p0 + FR * u.xy);
     vec4 c = pack_color[t];
     if (!has_refl(c)) continue;
     float dj = c.w;
     if (dj <= 0.0 && (pc.flags & 8u) == 0u) continue;
-    float tj = dj > 0.0 ? dj / (e + dj) : 1.0;
-    float w = range_fn(pack_geo[t], P0, N0);
+    float tj = dj > 0.0 ? dj / (L.e + dj) : 1.0;
+    float w = range_fn(pack_geo[t], L.P0, L.N0);
     // Reach: only reflections whose own footprint (radius t_j·R_full) covers p_0.
-    if ((pc.flags & 1u) != 0u) w *= clamp(tj * R_full - u.z * R_p + 0.5, 0.0, 1.0);
+    if ((pc.flags & 1u) != 0u) w *= clamp(tj * L.R_full - u.z * L.R_p + 0.5, 0.0, 1.0);
     st += w * tj;
     sw += w;
   }
-  float t_bar = sw > 1e-6 ? st / sw : 1.0;
+  return sw > 1e-6 ? st / sw : 1.0;
+}
+
+vec3 gather(Lobe L, uint i, float t_bar) {
+  float alpha = L.alpha, cos_i = L.cos_i;
   // Eq. 13: tan α = E·tan θ / (e + E): a reflected deviation θ lands k·tan θ pixels away.
   // A footprint over max_radius truncates the cone rather than squeezing the lobe.
   float k_px = t_bar * pc.f_px;
-  float th_max = 0.5 * min(theta_max, atan(pc.max_radius / max(k_px, 1e-6)));
+  float th_max = 0.5 * min(L.theta_max, atan(pc.max_radius / max(k_px, 1e-6)));
   float R_s = k_px * tan(2.0 * th_max);
   // Energy the rough lobe loses to masking-shadowing (Smith, height-correlated, the lobe
   // narrow enough that the incident angle is the mirror's): albedo 1 / (1 + 2·Λ(θ_i)).
@@ -141,8 +155,8 @@ vec3 refl_isg(uvec2 p, uint i) {
   float xi_max = tm * tm / (alpha * alpha + tm * tm);
   vec3 s = c0;
   float ws = 1.0;
-  uint gg = pc.grids >> 16;
-  mat2 FK = k_px * F;
+  uint gs = pc.grids & 0xffffu, gg = pc.grids >> 16;
+  mat2 FK = k_px * L.F;
   for (uint k = 0u; k < gg * gg; ++k) {
     vec4 u = samples[gs * gs + k];
     float xi = xi_max * u.w;
@@ -150,32 +164,75 @@ vec3 refl_isg(uvec2 p, uint i) {
     float tau = sqrt(tau2);
     // Lattice point scaled from radius |c| to k·tan 2θ_h (|c| = 0: the centre stays put).
     float f = u.z > 0.0 ? 2.0 * tau / ((1.0 - tau2) * u.z) : 0.0;
-    uint t = tap(p0 + FK * (f * u.xy));
+    uint t = tap(L.p0 + FK * (f * u.xy));
     vec4 c = pack_color[t];
     if (!has_refl(c)) continue;
-    float w = sqrt(1.0 + tau2) * range_fn(pack_geo[t], P0, N0);
+    float w = sqrt(1.0 + tau2) * range_fn(pack_geo[t], L.P0, L.N0);
     s += w * c.rgb;
     ws += w;
   }
   return albedo * mix(c0, s / ws, smoothstep(0.25, 0.75, R_s));
 }
 
+// The search at half resolution: one per 2×2 quad of the tile, from its first glossy pixel.
+#define REFL_QUADS (REFL_TILE / 2u)
+#define REFL_NO_REP 0xffffffffu
+shared uint quad_rep[REFL_QUADS * REFL_QUADS];  // the representative's index, or REFL_NO_REP
+shared float quad_t[REFL_QUADS * REFL_QUADS];   // its t̄ (eq. 4 over t = E/(e+E))
+shared uint tile_searches;
+
+vec3 refl_isg(uvec2 p, uint i) {
+  Lobe L = lobe_at(p, i);
+  uvec2 l = gl_LocalInvocationID.xy / 2u;
+  uint q = l.y * REFL_QUADS + l.x, r = quad_rep[q];
+  float t_bar = quad_t[q];
+  // A pixel on another surface than its quad's representative searches for itself.
+  if (r != i && range_fn(pack_geo[r], L.P0, L.N0) < REFL_QUAD_SAME) {
+    t_bar = search(L, i);
+    atomicAdd(tile_searches, 1u);
+  }
+  return gather(L, i, t_bar);
+}
+
 void main() {
   uvec2 p = gl_GlobalInvocationID.xy;
   bool inside = p.x < pc.width && p.y < pc.height;
   uint i = inside ? p.y * pc.width + p.x : 0u;
-  if (gl_LocalInvocationIndex == 0u) tile_glossy = 0u;
+  if (gl_LocalInvocationIndex == 0u) { tile_glossy = 0u; tile_searches = 0u; }
   barrier();
   bool g = inside && is_glossy(i);
   if (g) atomicAdd(tile_glossy, 1u);
   barrier();
-  // Tiles with nothing glossy take the cheap path: refl.glossy = refl. The others record how
-  // many pixels ran the search and gather (as −count: the statistics behind --timings).
-  if (gl_LocalInvocationIndex == 0u)
-    tiles[gl_WorkGroupID.y * gl_NumWorkGroups.x + gl_WorkGroupID.x] = tile_glossy == 0u ? 1.0 : -float(tile_glossy);
-  if (!inside) return;
-  vec3 c = pack_color[i].rgb;
+  // The quads' searches, one invocation per quad (the first REFL_QUADS² lanes, so that whole
+  // SIMD rows of llvmpipe sit idle rather than three lanes in four).
+  uint q = gl_LocalInvocationIndex;
+  if (tile_glossy != 0u && pc.mode == REFL_MODE_ISG && q < REFL_QUADS * REFL_QUADS) {
+    uvec2 base = gl_WorkGroupID.xy * REFL_TILE + 2u * uvec2(q % REFL_QUADS, q / REFL_QUADS);
+    uint r = REFL_NO_REP;
+    uvec2 rp = base;
+    for (uint k = 0u; k < 4u; ++k) {
+      uvec2 pp = base + uvec2(k & 1u, k >> 1u);
+      if (r == REFL_NO_REP && pp.x < pc.width && pp.y < pc.height && is_glossy(pp.y * pc.width + pp.x)) {
+        r = pp.y * pc.width + pp.x;
+        rp = pp;
+      }
+    }
+    quad_rep[q] = r;
+    if (r != REFL_NO_REP) {
+      quad_t[q] = search(lobe_at(rp, r), r);
+      atomicAdd(tile_searches, 1u);
+    }
+  }
+  barrier();
+  vec3 c = inside ? pack_color[i].rgb : vec3(0.0);
   if (tile_glossy != 0u && g) c = pc.mode == REFL_MODE_BLUR ? refl_blur(p, i) : refl_isg(p, i);
+  barrier();
+  // Tiles with nothing glossy take the cheap path: refl.glossy = refl. The others record how
+  // many pixels gathered and how many searches ran (the statistics behind --timings).
+  if (gl_LocalInvocationIndex == 0u)
+    tiles[gl_WorkGroupID.y * gl_NumWorkGroups.x + gl_WorkGroupID.x] =
+        tile_glossy == 0u ? 1.0 : -float(tile_glossy + REFL_STATS_SEARCHES * tile_searches);
+  if (!inside) return;
   uint n = pc.width * pc.height;
   glossy[i] = c.r; glossy[n + i] = c.g; glossy[2u * n + i] = c.b;
 }

@@ -20,6 +20,11 @@ ISG_IO_BEGIN
 #define REFL_MAX_THETA 1.3
 // cos θ_incident is clamped here (eq. 14 at grazing angles).
 #define REFL_MIN_COS 0.05
+// The parameter search runs once per 2×2 quad (its first glossy pixel); a pixel whose range
+// weight (eq. 10) to that representative is below this searches for itself.
+#define REFL_QUAD_SAME 0.5
+// refl.tiles holds −(glossy pixels + REFL_STATS_SEARCHES · searches) for a tile that gathered.
+#define REFL_STATS_SEARCHES 1024u
 struct ReflIsgPush {
   uint width;
   uint height;

@@ -4,23 +4,25 @@
 #define SHADOWMAP_COMMON_H
 #include "isg_sampling.h"
 
-vec3 sm_position(uint i) {
+// Every position here is relative to the light (P − light, the light's centre rounded to float):
+// a world position far from the origin is never formed in float (issue 19). From P, P − light is
+// exact while the two are within a factor 2 (Sterbenz); from depth, the camera-space point is
+// rotated into world axes and moved by eye − light, taken in double on the host.
+vec3 sm_rel(uint i) {
   uint n = p.width * p.height;
-  if (p.has_position != 0u) return vec3(geo[i], geo[n + i], geo[2u * n + i]);
+  if (p.has_position != 0u) return vec3(geo[i], geo[n + i], geo[2u * n + i]) - vec3(p.light_x, p.light_y, p.light_z);
   float z = geo[i];
   // Frame coordinates (a tile adds its origin), so a tile rounds as the whole frame does.
   float x = float(i % p.width + (p.origin & 0xffffu)) + 0.5, y = float(i / p.width + (p.origin >> 16)) + 0.5;
   vec3 c = vec3((x - p.cx) / p.f_px * z, -(y - p.cy) / p.f_px * z, -z);
   mat3 rt = mat3(p.r0, p.r3, p.r6, p.r1, p.r4, p.r7, p.r2, p.r5, p.r8);  // R^T (columns)
-  return transpose(rt) * c + vec3(p.eye_x, p.eye_y, p.eye_z);
+  return transpose(rt) * c + vec3(p.eye_rel_x, p.eye_rel_y, p.eye_rel_z);
 }
 
-// Light space: (u, v) in map texels (texel centres at k + 0.5, row 0 at the top), planar depth.
-// Relative to the light first: P − light is exact in float while the two are within a factor 2
-// (Sterbenz), so a scene 1e5 from the origin loses nothing to cancellation; l03, l13, l23 are
-// the translation left after it (the light's position rounded to float, in double on the host).
-vec3 sm_project(vec3 P) {
-  vec3 d = P - vec3(p.light_x, p.light_y, p.light_z);
+// Light space of d = P − light: (u, v) in map texels (texel centres at k + 0.5, row 0 at the
+// top), planar depth; l03, l13, l23 are the translation left after the light's centre was
+// rounded to float (in double on the host).
+vec3 sm_project(vec3 d) {
   float x = p.l00 * d.x + p.l01 * d.y + p.l02 * d.z + p.l03;
   float y = p.l10 * d.x + p.l11 * d.y + p.l12 * d.z + p.l13;
   float z = -(p.l20 * d.x + p.l21 * d.y + p.l22 * d.z + p.l23);
@@ -53,7 +55,7 @@ vec3 sm_receiver_plane(uvec2 px, vec3 q, vec3 P, out bool back) {
       if (nb.x < 0 || nb.y < 0 || nb.x >= int(p.width) || nb.y >= int(p.height)) continue;
       uint j = uint(nb.y) * p.width + uint(nb.x);
       if (fg_in[j] == 0.0) continue;
-      vec3 Pn = sm_position(j);
+      vec3 Pn = sm_rel(j);
       vec3 qn = sm_project(Pn);
       if (qn.z <= 0.0) continue;
       float dz = abs(qn.z - q.z);
@@ -66,8 +68,8 @@ vec3 sm_receiver_plane(uvec2 px, vec3 q, vec3 P, out bool back) {
   if (found < 2) return vec3(0.0, 0.0, spread);
   if (p.has_camera != 0u) {
     vec3 nrm = cross(t[0], t[1]);
-    if (dot(nrm, vec3(p.eye_x, p.eye_y, p.eye_z) - P) < 0.0) nrm = -nrm;
-    back = dot(nrm, vec3(p.light_x, p.light_y, p.light_z) - P) < 0.0;
+    if (dot(nrm, vec3(p.eye_rel_x, p.eye_rel_y, p.eye_rel_z) - P) < 0.0) nrm = -nrm;
+    back = dot(nrm, -P) < 0.0;
   }
   float det = d[0].x * d[1].y - d[0].y * d[1].x;
   if (abs(det) < 1e-8) return vec3(0.0, 0.0, spread);

@@ -24,7 +24,7 @@ void main() {
   uint i = px.y * pc.width + px.x;
   float lit = 1.0, d_occ = 0.0;
   if (fg_in[i] != 0.0) {
-    vec3 P = sm_position(i);
+    vec3 P = sm_rel(i);  // P − light
     vec3 q = sm_project(P);
     bool back = false;
     vec3 g = vec3(0.0);
@@ -41,7 +41,7 @@ void main() {
           float zm = sm_fetch(c);
           if (zm < sm_threshold(q, g, c, texel_world)) zb = max(zb, zm);
         }
-      if (zb > 0.0) d_occ = length(P - vec3(p.light_x, p.light_y, p.light_z)) * (q.z - zb) / q.z;
+      if (zb > 0.0) d_occ = length(P) * (q.z - zb) / q.z;
     }
   }
   if (pc.write_shadow != 0u) shadow[i] = lit;

@@ -25,10 +25,11 @@ struct ShadowmapParams {
   // the receiver-plane (slope) bias is clamped to slope_max receiver texel footprints;
   // spread_bias: times the smallest light-depth step to a screen neighbour.
   float max_radius, bias, slope_max, spread_bias;
-  // Camera (depth -> position): focal length in pixels, eye, world-to-camera rotation rows.
-  float f_px, eye_x, eye_y, eye_z;
+  // Camera (depth -> position): focal length in pixels, eye − light (the light's centre as
+  // rounded below, in double on the host), world-to-camera rotation rows.
+  float f_px, eye_rel_x, eye_rel_y, eye_rel_z;
   float r0, r1, r2, r3, r4, r5, r6, r7, r8;
-  float light_x, light_y, light_z;  // the light's centre (world)
+  float light_x, light_y, light_z;  // the light's centre (world), rounded to float
   // Principal point (frame pixels; pixel coordinates here are the frame's: this image's plus
   // the origin); the image's origin in the frame, x | y << 16 (also the pixel hash's).
   float cx, cy;

@@ -157,7 +157,7 @@ void main() {
   if (px.x >= pc.width || px.y >= pc.height) return;
   uint i = px.y * pc.width + px.x;
   if (fg_in[i] == 0.0) { soft[i] = hard[i]; return; }
-  vec3 P = sm_position(i);
+  vec3 P = sm_rel(i);  // P − light
   vec3 q = sm_project(P);
   if (!sm_inside(q)) { soft[i] = hard[i]; return; }
   atomicAdd(stats[SHADOWMAP_STAT_PIXELS], 1u);

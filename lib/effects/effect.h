@@ -121,10 +121,10 @@ struct Report {
 };
 
 // The gather passes' load, for samples/s against the roofline (--timings): pixels that ran
-// the search and gather, and lattice samples per pixel (search + gather).
+// the search and gather, and the lattice samples taken in all (search + gather).
 struct GatherLoad {
   std::string pass;  // the plan's Pass::label (its name in the timings)
-  uint64_t pixels = 0, samples_per_pixel = 0;
+  uint64_t pixels = 0, samples = 0;
 };
 
 // Effects run in two stages: on the input AOVs (their composite terms add up, their reaches

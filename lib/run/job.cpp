@@ -16,15 +16,15 @@ namespace isg::run {
 namespace fs = std::filesystem;
 using Clock = std::chrono::steady_clock;
 
-LoadedFrame plan_frame(const JobConfig& job, const std::string& input) {
-  LoadedFrame f;
-  f.input = input;
-  auto header = io::read_exr_header(input, job.limits);
+namespace {
+
+// Roles, camera and plan of f.img (its header at least), whose file or name is f.input.
+void plan_image(const JobConfig& job, LoadedFrame& f) {
   // The scene file's lights, unless the caller named them.
   io::RoleRequest req = job.request;
   if (req.light_names.empty())
     for (const auto& l : job.scene.lights) req.light_names.push_back(l.name);
-  f.roles = io::resolve_roles(header.channel_names(), req, input);
+  f.roles = io::resolve_roles(f.img.channel_names(), req, f.input);
   for (const auto& [role, name] : job.request.overrides) {
     if (!io::is_known_role(role, f.roles.lights)) {
       auto how = job.request.override_how.find(role);
@@ -33,28 +33,24 @@ LoadedFrame plan_frame(const JobConfig& job, const std::string& input) {
     }
   }
   f.camera = job.scene.camera;
-  if (!f.camera) f.camera = io::camera_from_header(header);
-  f.plan = plan::make_plan(f.roles, job.scene, job.params, header.width, header.height,
+  if (!f.camera) f.camera = io::camera_from_header(f.img);
+  f.plan = plan::make_plan(f.roles, job.scene, job.params, f.img.width, f.img.height,
                            f.camera ? &*f.camera : nullptr);
-  f.img = std::move(header);
-  return f;
 }
 
-namespace {
 // The load stage of the effects: files they read besides the input, once per frame.
 void load_effects(LoadedFrame& f) {
   for (auto& i : f.plan.instances) effects::effect_named(i->effect).load(*i, f.warnings);
 }
-}  // namespace
 
-LoadedFrame load_frame(const JobConfig& job, const std::string& input) {
-  LoadedFrame f = plan_frame(job, input);
+void check_missing(const LoadedFrame& f) {
   if (!f.plan.missing.empty()) {
-    throw io::IoError(input + ": missing required channels for role " + f.plan.missing.front());
+    throw io::IoError(f.input + ": missing required channels for role " + f.plan.missing.front());
   }
-  auto t = Clock::now();
-  f.img = io::read_exr(input, job.limits);
-  f.read_ms = std::chrono::duration<double, std::milli>(Clock::now() - t).count();
+}
+
+// Pixels as the passes take them: NaN/Inf to 0, the beauty scene-linear.
+void prepare_pixels(const JobConfig& job, LoadedFrame& f) {
   f.nonfinite = io::sanitize(f.img);
   load_effects(f);
   if (!job.input_colorspace.empty()) {
@@ -62,6 +58,40 @@ LoadedFrame load_frame(const JobConfig& job, const std::string& input) {
     io::to_scene_linear(f.img, {rgb[0], rgb[1], rgb[2]}, job.input_colorspace);
     f.img.attributes.attribute("isg:input_colorspace", job.input_colorspace);
   }
+}
+
+}  // namespace
+
+LoadedFrame plan_frame(const JobConfig& job, const std::string& input) {
+  LoadedFrame f;
+  f.input = input;
+  f.img = io::read_exr_header(input, job.limits);
+  plan_image(job, f);
+  return f;
+}
+
+LoadedFrame load_frame(const JobConfig& job, const std::string& input) {
+  LoadedFrame f = plan_frame(job, input);
+  check_missing(f);
+  auto t = Clock::now();
+  f.img = io::read_exr(input, job.limits);
+  f.read_ms = std::chrono::duration<double, std::milli>(Clock::now() - t).count();
+  prepare_pixels(job, f);
+  return f;
+}
+
+LoadedFrame plan_image_frame(const JobConfig& job, io::Image img, const std::string& name) {
+  LoadedFrame f;
+  f.input = name;
+  f.img = std::move(img);
+  plan_image(job, f);
+  return f;
+}
+
+LoadedFrame load_image_frame(const JobConfig& job, io::Image img, const std::string& name) {
+  LoadedFrame f = plan_image_frame(job, std::move(img), name);
+  check_missing(f);
+  prepare_pixels(job, f);
   return f;
 }
 

@@ -45,6 +45,10 @@ LoadedFrame plan_frame(const JobConfig& job, const std::string& input);
 // Reads the pixels too, and what the effects read besides (shadow maps): the load stage.
 // Throws IoError on anything wrong with the input.
 LoadedFrame load_frame(const JobConfig& job, const std::string& input);
+// The same for an image already in memory (the Python module's arrays); `name` stands for the
+// file in errors and in the isg:input provenance.
+LoadedFrame plan_image_frame(const JobConfig& job, io::Image img, const std::string& name);
+LoadedFrame load_image_frame(const JobConfig& job, io::Image img, const std::string& name);
 // Runs the plan on the device and adds the output channels and provenance to frame.img.
 Stats process_frame(Runner& runner, const JobConfig& job, LoadedFrame& frame);
 Stats process_frame(gpu::Context& ctx, const JobConfig& job, LoadedFrame& frame);

@@ -43,7 +43,7 @@ void Stats::add_tile(const Stats& st) {
   for (const auto& g : st.gathers) {
     auto it = std::find_if(gathers.begin(), gathers.end(), [&](const auto& q) { return q.pass == g.pass; });
     if (it == gathers.end()) gathers.push_back(g);
-    else it->pixels += g.pixels;
+    else it->pixels += g.pixels, it->samples += g.samples;
   }
   warnings.insert(st.warnings.begin(), st.warnings.end());
   ++tiles;

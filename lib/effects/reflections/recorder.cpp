@@ -47,8 +47,8 @@ class ReflRecorder final : public Recorder {
     out.reports.push_back(r);
     const auto& s = inst.s;
     out.gathers.push_back({frame_[&inst].label, rt.glossy_pixels,
-                           uint64_t(s.method == "blur" ? 0 : s.grid_search * s.grid_search) +
-                               uint64_t(s.grid_gather * s.grid_gather)});
+                           rt.searches * uint64_t(s.grid_search * s.grid_search) +
+                               rt.glossy_pixels * uint64_t(s.grid_gather * s.grid_gather)});
     frame_.erase(&inst);
   }
 

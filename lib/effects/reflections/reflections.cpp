@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <numbers>
 
 #include "effects/sampling.h"
@@ -96,55 +97,75 @@ struct Ctx {
     return {sum[0] / ws, sum[1] / ws, sum[2] / ws};
   }
 
-  V3 isg(int x, int y, size_t i) const {
-    V2 p0 = {x + 0.5, y + 0.5};
-    V3 P0 = position(i), N0 = normal(i);
-    V3 V = sub(s.eye, P0);
-    double e = std::max(len3(V), 1e-6);
-    double cos_i = std::clamp(dot3(N0, V) / e, REFL_MIN_COS, 1.0);
-    double alpha = rough(i) * rough(i);
-    double theta_max = std::min(2.0 * std::atan(ggx_cone_tan(alpha, s.energy)), REFL_MAX_THETA);
-    double R_full = s.f_px * std::tan(theta_max);  // eq. 13 as E → ∞
-    double R_p = std::min(R_full, s.max_radius);
-    V2 d_maj = {1, 0};
+  // The pixel's lobe: the cone of eq. 13 and the screen footprint of eq. 14.
+  struct Lobe {
+    V2 p0;
+    V3 P0, N0;
+    double e, cos_i, alpha, theta_max, R_full, R_p, maj, minor, ca, sa;
+    V2 d_maj, d_min;
+    // Lattice point u (unit disk) scaled by R, rotated per pixel, on the footprint's axes.
+    V2 at(V2 c, double R, V2* u = nullptr) const {
+      V2 r = {ca * c[0] - sa * c[1], sa * c[0] + ca * c[1]};
+      if (u) *u = r;
+      return {p0[0] + R * (r[0] * maj * d_maj[0] + r[1] * minor * d_min[0]),
+              p0[1] + R * (r[0] * maj * d_maj[1] + r[1] * minor * d_min[1])};
+    }
+  };
+  Lobe lobe(int x, int y, size_t i) const {
+    Lobe L;
+    L.p0 = {x + 0.5, y + 0.5};
+    L.P0 = position(i), L.N0 = normal(i);
+    V3 V = sub(s.eye, L.P0);
+    L.e = std::max(len3(V), 1e-6);
+    L.cos_i = std::clamp(dot3(L.N0, V) / L.e, REFL_MIN_COS, 1.0);
+    L.alpha = rough(i) * rough(i);
+    L.theta_max = std::min(2.0 * std::atan(ggx_cone_tan(L.alpha, s.energy)), REFL_MAX_THETA);
+    L.R_full = s.f_px * std::tan(L.theta_max);  // eq. 13 as E → ∞
+    L.R_p = std::min(L.R_full, s.max_radius);
+    L.d_maj = {1, 0};
     if (s.anisotropic) {
+      const V3 P0 = L.P0, N0 = L.N0;
+      const double e = L.e;
       V2 a = project(P0), b = project({P0[0] + N0[0] * 0.01 * e, P0[1] + N0[1] * 0.01 * e,
                                        P0[2] + N0[2] * 0.01 * e});
       V2 d = {b[0] - a[0], b[1] - a[1]};
       double l = len2(d);
-      if (l > 1e-6) d_maj = {d[0] / l, d[1] / l};
+      if (l > 1e-6) L.d_maj = {d[0] / l, d[1] / l};
     }
-    V2 d_min = {-d_maj[1], d_maj[0]};
-    double maj = s.anisotropic ? 1.0 : cos_i, minor = cos_i;
-    double ang = angle(x, y), ca = std::cos(ang), sa = std::sin(ang);
-    auto offset = [&](int k, int grid, double R, V2& u) {
-      V2 c = concentric(k, grid);
-      u = {ca * c[0] - sa * c[1], sa * c[0] + ca * c[1]};
-      return V2{p0[0] + R * (u[0] * maj * d_maj[0] + u[1] * minor * d_min[0]),
-                p0[1] + R * (u[0] * maj * d_maj[1] + u[1] * minor * d_min[1])};
-    };
+    L.d_min = {-L.d_maj[1], L.d_maj[0]};
+    L.maj = s.anisotropic ? 1.0 : L.cos_i, L.minor = L.cos_i;
+    const double ang = angle(x, y);
+    L.ca = std::cos(ang), L.sa = std::sin(ang);
+    return L;
+  }
 
-    // Parameter search (eq. 4, 10-12) over t = E / (e + E); misses are t = 1 (eq. 13's limit).
+  // Parameter search (eq. 4, 10-12) over t = E / (e + E); misses are t = 1 (eq. 13's limit).
+  double search(const Lobe& L, size_t i) const {
     double d0 = in.dist[i];
-    double st = d0 > 0 ? d0 / (e + d0) : 1.0, sw = 1.0;
+    double st = d0 > 0 ? d0 / (L.e + d0) : 1.0, sw = 1.0;
     if (d0 <= 0 && !s.search_misses) st = sw = 0.0;
     for (int k = 0; k < s.grid_search * s.grid_search; ++k) {
       V2 u;
-      V2 q = offset(k, s.grid_search, R_p, u);
+      V2 q = L.at(concentric(k, s.grid_search), L.R_p, &u);
       const size_t t = tap(q);
       if (!has_refl(t)) continue;
       double dj = in.dist[t];
       if (dj <= 0 && !s.search_misses) continue;
-      double tj = dj > 0 ? dj / (e + dj) : 1.0;
-      double w = range(t, P0, N0);
-      if (s.search_reach) w *= std::clamp(tj * R_full - len2(u) * R_p + 0.5, 0.0, 1.0);
+      double tj = dj > 0 ? dj / (L.e + dj) : 1.0;
+      double w = range(t, L.P0, L.N0);
+      if (s.search_reach) w *= std::clamp(tj * L.R_full - len2(u) * L.R_p + 0.5, 0.0, 1.0);
       st += w * tj;
       sw += w;
     }
-    double t_bar = sw > 1e-6 ? st / sw : 1.0;
+    return sw > 1e-6 ? st / sw : 1.0;
+  }
+
+  V3 gather(const Lobe& L, size_t i, double t_bar) const {
+    const double alpha = L.alpha, cos_i = L.cos_i;
     // Eq. 13 per reflected direction: a deviation θ lands k·tan θ pixels away.
     const double k_px = t_bar * s.f_px;
-    const double th_max = 0.5 * std::min(theta_max, std::atan(s.max_radius / std::max(k_px, 1e-6)));
+    const double th_max =
+        0.5 * std::min(L.theta_max, std::atan(s.max_radius / std::max(k_px, 1e-6)));
     const double R_s = k_px * std::tan(2.0 * th_max);
     // Masking-shadowing loss: albedo 1 / (1 + 2·Λ(θ_i)) = 1 / sqrt(1 + α² tan²θ_i).
     const double tan2 = (1.0 - cos_i * cos_i) / (cos_i * cos_i);
@@ -162,13 +183,11 @@ struct Ctx {
       const double rho_u = len2(c), xi = xi_max * rho_u * rho_u;
       const double th = std::atan(alpha * std::sqrt(xi / (1.0 - xi)));
       const double f = rho_u > 0 ? k_px * std::tan(2.0 * th) / rho_u : 0.0;
-      V2 u = {f * (ca * c[0] - sa * c[1]), f * (sa * c[0] + ca * c[1])};
-      V2 q = {p0[0] + (u[0] * maj * d_maj[0] + u[1] * minor * d_min[0]),
-              p0[1] + (u[0] * maj * d_maj[1] + u[1] * minor * d_min[1])};
+      const V2 q = L.at(c, f);
       const double wd = 1.0 / std::cos(th);
       const size_t t = tap(q);
       if (!has_refl(t)) continue;
-      double w = wd * range(t, P0, N0);
+      double w = wd * range(t, L.P0, L.N0);
       V3 r = rgb(in.refl, t);
       for (int c3 = 0; c3 < 3; ++c3) sum[c3] += w * r[c3];
       ws += w;
@@ -177,6 +196,26 @@ struct Ctx {
     V3 out;
     for (int c3 = 0; c3 < 3; ++c3) out[c3] = albedo * (c0[c3] + (sum[c3] / ws - c0[c3]) * m);
     return out;
+  }
+
+  // The search at half resolution (issue 18): one search per 2×2 quad, from its first glossy
+  // pixel (the representative); a pixel on another surface than its representative (range
+  // weight below REFL_QUAD_SAME) searches for itself. Quads are aligned to even pixels.
+  size_t quad_rep(int x, int y) const {
+    const int qx = x & ~1, qy = y & ~1;
+    for (int k = 0; k < 4; ++k) {
+      const int px = qx + (k & 1), py = qy + (k >> 1);
+      if (px < in.w && py < in.h && glossy(size_t(py) * in.w + px)) return size_t(py) * in.w + px;
+    }
+    return size_t(-1);
+  }
+  V3 isg(int x, int y, size_t i, std::vector<double>& quad_t) const {
+    const Lobe L = lobe(x, y, i);
+    const size_t r = quad_rep(x, y);
+    double& tq = quad_t[size_t(y / 2) * ((in.w + 1) / 2) + x / 2];
+    if (std::isnan(tq)) tq = r == i ? search(L, i) : search(lobe(int(r % in.w), int(r / in.w), r), r);
+    const bool same = r == i || range(r, L.P0, L.N0) >= REFL_QUAD_SAME;
+    return gather(L, i, same ? tq : search(L, i));
   }
 };
 }  // namespace
@@ -192,6 +231,8 @@ std::vector<float> reflections_reference(const ReflInputs& in, const ReflSetting
   std::vector<float> out(in.refl.begin(), in.refl.begin() + 3 * n);
   const int tx = (in.w + REFL_TILE - 1) / REFL_TILE, ty = (in.h + REFL_TILE - 1) / REFL_TILE;
   if (tiles) tiles->assign(size_t(tx) * ty, 0.0f);
+  std::vector<double> quad_t(size_t((in.w + 1) / 2) * ((in.h + 1) / 2),
+                             std::numeric_limits<double>::quiet_NaN());
   for (int by = 0; by < ty; ++by) {
     for (int bx = 0; bx < tx; ++bx) {
       bool any = false;
@@ -204,7 +245,7 @@ std::vector<float> reflections_reference(const ReflInputs& in, const ReflSetting
         for (int x = bx * REFL_TILE; x < std::min(in.w, (bx + 1) * REFL_TILE); ++x) {
           const size_t i = size_t(y) * in.w + x;
           if (!c.glossy(i)) continue;
-          V3 v = s.method == "blur" ? c.blur(x, y, i) : c.isg(x, y, i);
+          V3 v = s.method == "blur" ? c.blur(x, y, i) : c.isg(x, y, i, quad_t);
           for (int k = 0; k < 3; ++k) out[k * n + i] = float(v[k]);
         }
       }
@@ -308,7 +349,9 @@ ReflTileStats ReflectionsPass::stats(const gpu::Buffer& tiles, uint32_t w, uint3
   size_t k = 0;
   for (float v : t) {
     k += v > 0.0f ? 1 : 0;
-    st.glossy_pixels += v < 0.0f ? uint64_t(-v) : 0;
+    const uint64_t c = v < 0.0f ? uint64_t(-v) : 0;
+    st.glossy_pixels += c % REFL_STATS_SEARCHES;
+    st.searches += c / REFL_STATS_SEARCHES;
   }
   st.skipped_fraction = nt ? double(k) / nt : 0.0;
   return st;

@@ -150,9 +150,9 @@ shaders::ShadowmapParams shadowmap_params(const ShadowmapSettings& s, const Shad
   p.cx = float(s.window.cx(int(w)));
   p.cy = float(s.window.cy(int(h)));
   p.origin = s.window.packed_origin();
-  p.eye_x = float(s.eye[0]);
-  p.eye_y = float(s.eye[1]);
-  p.eye_z = float(s.eye[2]);
+  p.eye_rel_x = float(s.eye[0] - e[0]);
+  p.eye_rel_y = float(s.eye[1] - e[1]);
+  p.eye_rel_z = float(s.eye[2] - e[2]);
   float* R[9] = {&p.r0, &p.r1, &p.r2, &p.r3, &p.r4, &p.r5, &p.r6, &p.r7, &p.r8};
   for (int k = 0; k < 9; ++k) *R[k] = float(s.rot[size_t(k)]);
   return p;

@@ -1,0 +1,159 @@
+#!/usr/bin/env python3
+"""Issue 19's table: every shadow method on every Cycles case with a soft-shadow reference, from P
+and from Z. Per case, method and input: RMSE of `key.softshadow` against the case's converged Cycles
+soft shadow (ref/softshadow_key.exr) over its mask, and that RMSE as a ratio to doing nothing (the
+input's hard `key.shadow`, i.e. shadows.method=hard): below 1 is better than doing nothing.
+
+Inputs: "P" is the case's aovs.exr as it is (world positions from P); "Z" is the same file without
+P.X/P.Y/P.Z, so that isg forms positions from the planar depth Z and the scene file's camera.
+
+Cases: every folder with ref/softshadow_key.exr under --cases (default ../shared/cases) and under
+--own (default $ISG_OWN_CASES, else ../cases-own next to the repository: the repository's own
+Cycles cases, rendered by tools/cases/make_cases.sh); a folder that is absent is skipped.
+
+    python3 bench/shadow_cases.py [--build build] [--cases DIR] [--own DIR] [--only a,b]
+                                  [--methods isg,pcss,vssm,cssm] [--keep DIR] [--from-json]
+
+--keep DIR keeps every output EXR (DIR/CASE/METHOD-INPUT.exr) and writes an error heat-map
+next to it (full scale 3x doing nothing's RMSE), for looking at what breaks.
+Writes bench/out/shadow_cases.json and docs/benchmark/shadow_cases.md."""
+import argparse, os, platform, subprocess, sys
+
+HERE = os.path.dirname(os.path.abspath(__file__))
+sys.path.insert(0, HERE)
+from common import PAGES, SHARED_CASES, Tools, compare, load, run_isg, save, sh
+
+ap = argparse.ArgumentParser()
+ap.add_argument("--build", default="build")
+ap.add_argument("--cases", default=SHARED_CASES)
+ap.add_argument("--own", default=os.environ.get("ISG_OWN_CASES", os.path.join(HERE, "..", "..", "cases-own")))
+ap.add_argument("--only", default="", help="comma-separated case names (folder names)")
+ap.add_argument("--methods", default="isg,pcss,vssm,cssm")
+ap.add_argument("--keep", help="keep outputs and heat-maps under this folder")
+ap.add_argument("--from-json", action="store_true", help="rewrite the page from bench/out/shadow_cases.json")
+a = ap.parse_args()
+
+INPUTS = ("P", "Z")
+
+
+def find_cases():
+    """(label, folder) of every case with a soft-shadow reference, shared first."""
+    out = []
+    only = set(filter(None, a.only.split(",")))
+    for origin, root in (("shared", a.cases), ("own", a.own)):
+        if not os.path.isdir(root):
+            print(f"shadow_cases: no {origin} cases at {root}, skipped", file=sys.stderr)
+            continue
+        for name in sorted(os.listdir(root)):
+            d = os.path.join(root, name)
+            if os.path.exists(os.path.join(d, "ref", "softshadow_key.exr")) and (not only or name in only):
+                out.append((f"{origin} {name}", d))
+    return out
+
+
+def z_only(t, case):
+    """The case's AOVs without the position role: isg then forms positions from Z and the camera."""
+    dst = os.path.join(t.tmp, os.path.basename(case) + "-z.exr")
+    if not os.path.exists(dst):
+        info = sh(["oiiotool", "--info", "-v", f"{case}/aovs.exr"])
+        chans = [c.strip().rsplit(" (", 1) for c in info.split("channel list:")[1].split("\n")[0].split(",")]
+        keep = [(c[0], c[1].rstrip(")") if len(c) > 1 else "float") for c in chans if c[0] not in ("P.X", "P.Y", "P.Z")]
+        if len(keep) != len(chans) - 3:
+            raise SystemExit(f"{case}/aovs.exr: no P.X/P.Y/P.Z channels to drop")
+        types = [arg for n, ty in keep for arg in ("-d", f"{n}={ty}")]  # each channel keeps its pixel type
+        sh(["oiiotool", f"{case}/aovs.exr", "--ch", ",".join(n for n, _ in keep), *types, "-o", dst])
+    return dst
+
+
+def measure(t, label, case, methods):
+    ref = f"{case}/ref/softshadow_key.exr"
+    keep = os.path.join(a.keep, os.path.basename(case)) if a.keep else None
+    if keep:
+        os.makedirs(keep, exist_ok=True)
+    res = {"dir": os.path.abspath(case), "rmse": {}, "failed": {}}
+    for inp in INPUTS:
+        aovs = f"{case}/aovs.exr" if inp == "P" else z_only(t, case)
+        for m in ["hard"] + methods:
+            key = f"{m}-{inp}"
+            out = os.path.join(keep, f"{key}.exr") if keep else None
+            try:
+                r = run_isg(t, case, [f"shadows.method={m}", "reflections.method=none", "dof.method=none"],
+                            out=out, aovs=aovs)
+            except subprocess.CalledProcessError as e:  # a failed run is a result too
+                res["failed"][key] = ((e.stderr or "").strip().splitlines() or ["?"])[-1]
+                print(label, key, "failed:", res["failed"][key], flush=True)
+                continue
+            res["device"] = r["device"]
+            hard = res["rmse"].get(f"hard-{inp}")
+            heat = os.path.join(keep, f"{key}.png") if keep else None
+            e = compare(t, r["out"], ref, ["key.softshadow"], "mask", heatmap=heat,
+                        heatmap_max=3 * hard if heat and hard else None)
+            res["rmse"][key] = e["rmse"]
+            print(label, key, f"rmse {e['rmse']:.5f}" + (f" ratio {e['rmse'] / hard:.2f}" if hard else ""), flush=True)
+    return res
+
+
+def ratio(r, m, inp):
+    v, h = r["rmse"].get(f"{m}-{inp}"), r["rmse"].get(f"hard-{inp}")
+    return None if v is None or not h else v / h
+
+
+def cell(r, m, inp):
+    if f"{m}-{inp}" in r["failed"]:
+        return "failed"
+    x = ratio(r, m, inp)
+    if x is None:
+        return "-"
+    s = f"{x:.2f}"
+    return f"**{s}**" if x >= 1 else s
+
+
+def report(res):
+    cases = res["cases"]
+    names = list(cases)
+    methods = res["methods"]
+    L = ["# Shadow methods on Cycles cases: far from the origin, large low lights, grazing receivers", "",
+         "Generated by `python3 bench/shadow_cases.py` (issue 19). Every case here is a Blender Cycles render with "
+         "a converged soft-shadow reference: the shared cases (`../shared/cases`) and the repository's own "
+         "(`tools/cases/`, rendered outside the repository; see tools/cases/README.md). Number: RMSE of "
+         "`key.softshadow` against the reference's `key.softshadow` over its `mask`, divided by the RMSE of doing "
+         "nothing (the input's hard `key.shadow`); below 1 is better than doing nothing, **bold** is not. "
+         "P: positions from the P channels; Z: the same AOVs without P, positions formed from Z and the camera. "
+         "Default settings of every method; reflections and depth of field off.", "",
+         f"Machine: {res['machine']}; device: {res.get('device', '?')}.", "",
+         "| case | hard RMSE | " + " | ".join(f"{m} P | {m} Z" for m in methods) + " |",
+         "|---|---|" + "---|---|" * len(methods)]
+    for n in names:
+        r = cases[n]
+        h = f"{r['rmse']['hard-P']:.4f}" if "hard-P" in r["rmse"] else "-"
+        L.append(f"| {n} | {h} | " + " | ".join(f"{cell(r, m, 'P')} | {cell(r, m, 'Z')}" for m in methods) + " |")
+    L += ["", "The RMSEs themselves:", "",
+          "| case | hard | " + " | ".join(f"{m} P | {m} Z" for m in methods) + " |",
+          "|---|---|" + "---|---|" * len(methods)]
+    for n in names:
+        r = cases[n]
+        f = lambda k: "failed" if k in r["failed"] else (f"{r['rmse'][k]:.4f}" if k in r["rmse"] else "-")
+        L.append(f"| {n} | {f('hard-P')} | " + " | ".join(f"{f(m + '-P')} | {f(m + '-Z')}" for m in methods) + " |")
+    fails = [(n, k, msg) for n in names for k, msg in cases[n]["failed"].items()]
+    if fails:
+        L += ["", "Failed runs (isg's one-line error):", ""] + [f"- {n}, {k}: `{msg}`" for n, k, msg in fails]
+    repo = os.path.dirname(HERE)
+    L += ["", "Cases (relative to the repository): " +
+          "; ".join(f"{n}: `{os.path.relpath(cases[n]['dir'], repo)}`" for n in names) + ".", ""]
+    os.makedirs(PAGES, exist_ok=True)
+    open(os.path.join(PAGES, "shadow_cases.md"), "w").write("\n".join(L))
+    print("wrote docs/benchmark/shadow_cases.md")
+
+
+if not a.from_json:
+    t = Tools(a.build)
+    methods = [m for m in a.methods.split(",") if m]
+    found = find_cases()
+    if not found:
+        raise SystemExit("shadow_cases: no case with ref/softshadow_key.exr found")
+    res = {"machine": platform.node(), "methods": methods, "cases": {}}
+    for label, d in found:
+        res["cases"][label] = measure(t, label, d, methods)
+    res["device"] = next((c.get("device") for c in res["cases"].values() if c.get("device")), "?")
+    save("shadow_cases.json", res)
+report(load("shadow_cases.json"))
