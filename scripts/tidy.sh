@@ -10,7 +10,14 @@ if [ -z "$tidy" ]; then echo "clang-tidy not installed (Debian package clang-tid
 [ -f "$build/compile_commands.json" ] || { echo "$build/compile_commands.json: build first" >&2; exit 2; }
 files=(lib/plan/*.cpp lib/run/*.cpp lib/effects/effect.cpp lib/effects/recorder.cpp
        lib/effects/params.cpp lib/effects/*/effect.cpp lib/effects/*/recorder.cpp)
+log=$(mktemp)
+trap 'rm -f "$log"' EXIT
+rc=0
 printf '%s\n' "${files[@]}" |
-  xargs -P 2 -n 1 "$tidy" -p "$build" --quiet --extra-arg=-Wno-unknown-warning-option 2>&1 |
-  grep -v '^[0-9]* warnings\? generated\.$' | tee /dev/stderr | { ! grep -q 'error:\|warning:'; }
+  xargs -P 2 -n 1 "$tidy" -p "$build" --quiet --extra-arg=-Wno-unknown-warning-option >"$log" 2>&1 || rc=$?
+grep -v '^[0-9]* warnings\? generated\.$' "$log" >&2 || true
+if [ "$rc" -ne 0 ] || grep -q 'error:\|warning:' "$log"; then
+  echo "clang-tidy: findings above (exit $rc)" >&2
+  exit 1
+fi
 echo "clang-tidy: ${#files[@]} files clean"
