@@ -48,6 +48,11 @@ std::vector<Def> shadows_params() {
       {"shadows.spread_bias", Type::number, "2", 0, 100, {},
        "shadow-map methods: extra depth bias, times the smallest light-depth step from the "
        "pixel to a screen neighbour (large where P blends two surfaces at a silhouette)", ""},
+      {"shadows.depth_ulps", Type::number, "1", 0, 1e3, {},
+       "shadow-map methods: the map's own precision, added to the receiver's depth uncertainty "
+       "(times shadows.spread_bias): this many float32 steps at the light's distance from the "
+       "world origin, where the renderer computed the map's depths (negligible near the origin; "
+       "6 cm a step at 1e6 m)", "steps"},
       {"shadows.smap_max_radius", Type::number, "64", 0.5, 1024, {},
        "shadow-map methods: largest blocker-search and filter radius; pixels that need more "
        "are clamped and counted (--timings)", "texels"},
@@ -162,6 +167,11 @@ std::vector<Def> output_params() {
       {"output.compression", Type::choice, "zip", 0, 0,
        {"none", "rle", "zip", "zips", "piz", "pxr24", "b44", "b44a", "dwaa", "dwab"},
        "EXR compression of the output", ""},
+      {"input.positions", Type::choice, "auto", 0, 0, {"auto", "P", "Z"},
+       "where positions come from: P as the renderer wrote it, or Z and the camera; auto takes "
+       "Z where P's float32 step is over 64x Z's (the camera more than 64 scene diameters from "
+       "the world origin: at 1e6 m P steps by 6 cm, and shadow-map depths compared with it "
+       "self-shadow)", ""},
       {"limits.max_megapixels", Type::number, "268.5", 0.001, 4096, {},
        "largest input image accepted, checked before decoding", "megapixels"},
       {"limits.max_channels", Type::integer, "1024", 1, 65536, {},

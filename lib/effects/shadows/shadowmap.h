@@ -34,6 +34,7 @@ struct ShadowmapSettings {
   double bias = 2.0;                      // shadows.bias, receiver texel footprints
   double slope_max = 4.0;                 // shadows.slope_max
   double spread_bias = 2.0;               // shadows.spread_bias
+  double depth_ulps = 1.0;                // shadows.depth_ulps
   double max_radius = 64.0;               // shadows.smap_max_radius, texels
   double scene_radius = 1.0;              // the scene file's scene_radius (r of §7.5.4-7.5.5)
   // vssm (thesis ch. 7)
@@ -107,6 +108,9 @@ std::vector<float> cssm_reference(const ShadowmapInputs& in, const ShadowmapData
                                   const ShadowmapSettings& s, ShadowmapStats* stats = nullptr);
 
 // The parameters every shadowmap_* pass reads (shaders/shadowmap_io.h); `taps`: tap count.
+// The map's own precision in world units (shadows.depth_ulps float32 steps at the light's
+// distance from the world origin), added to every receiver's depth uncertainty.
+double depth_eps(const ShadowmapSettings& s);
 shaders::ShadowmapParams shadowmap_params(const ShadowmapSettings& s, const ShadowmapData& map,
                                           uint32_t w, uint32_t h, bool has_position,
                                           uint32_t taps);
