@@ -167,11 +167,11 @@ std::vector<Def> output_params() {
       {"output.compression", Type::choice, "zip", 0, 0,
        {"none", "rle", "zip", "zips", "piz", "pxr24", "b44", "b44a", "dwaa", "dwab"},
        "EXR compression of the output", ""},
-      {"input.positions", Type::choice, "auto", 0, 0, {"auto", "P", "Z"},
-       "where positions come from: P as the renderer wrote it, or Z and the camera; auto takes "
-       "Z where P's float32 step is over 64x Z's (the camera more than 64 scene diameters from "
-       "the world origin: at 1e6 m P steps by 6 cm, and shadow-map depths compared with it "
-       "self-shadow)", ""},
+      {"input.positions", Type::choice, "P", 0, 0, {"P", "Z", "auto"},
+       "where positions come from: P as the renderer wrote it (consistent with a shadow map the "
+       "renderer computed in the same float32 world), or Z and the camera; auto takes Z where "
+       "P's float32 step is over 64x Z's (the camera more than 64 scene diameters from the "
+       "world origin), for maps that are exact where P is not", ""},
       {"limits.max_megapixels", Type::number, "268.5", 0.001, 4096, {},
        "largest input image accepted, checked before decoding", "megapixels"},
       {"limits.max_channels", Type::integer, "1024", 1, 65536, {},
