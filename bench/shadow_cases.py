@@ -30,6 +30,7 @@ ap.add_argument("--own", default=os.environ.get("ISG_OWN_CASES", os.path.join(HE
 ap.add_argument("--only", default="", help="comma-separated case names (folder names)")
 ap.add_argument("--methods", default="isg,pcss,vssm,cssm")
 ap.add_argument("--keep", help="keep outputs and heat-maps under this folder")
+ap.add_argument("--set", action="append", default=[], help="a parameter for every run: section.key=value")
 ap.add_argument("--from-json", action="store_true", help="rewrite the page from bench/out/shadow_cases.json")
 a = ap.parse_args()
 
@@ -77,7 +78,7 @@ def measure(t, label, case, methods):
             key = f"{m}-{inp}"
             out = os.path.join(keep, f"{key}.exr") if keep else None
             try:
-                r = run_isg(t, case, [f"shadows.method={m}", "reflections.method=none", "dof.method=none"],
+                r = run_isg(t, case, [f"shadows.method={m}", "reflections.method=none", "dof.method=none"] + a.set,
                             out=out, aovs=aovs)
             except subprocess.CalledProcessError as e:  # a failed run is a result too
                 res["failed"][key] = ((e.stderr or "").strip().splitlines() or ["?"])[-1]

@@ -64,7 +64,7 @@ vec3 sm_receiver_plane(uvec2 px, vec3 q, vec3 P, out bool back) {
     if (best < 1e30) { t[found] = bt; d[found++] = bd; }
     spread = min(spread, best);
   }
-  if (spread >= 1e30) spread = 0.0;
+  spread = (spread >= 1e30 ? 0.0 : spread) + p.depth_eps;
   if (found < 2) return vec3(0.0, 0.0, spread);
   if (p.has_camera != 0u) {
     vec3 nrm = cross(t[0], t[1]);

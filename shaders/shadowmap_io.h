@@ -24,7 +24,9 @@ struct ShadowmapParams {
   // Largest kernel radius (texels); constant depth bias in receiver texel footprints;
   // the receiver-plane (slope) bias is clamped to slope_max receiver texel footprints;
   // spread_bias: times the smallest light-depth step to a screen neighbour.
-  float max_radius, bias, slope_max, spread_bias;
+  // depth_eps: the map's own precision (shadows.depth_ulps float32 steps at the light's distance
+  // from the world origin), added to the receiver's depth uncertainty (spread).
+  float max_radius, bias, slope_max, spread_bias, depth_eps;
   // Camera (depth -> position): focal length in pixels, eye − light (the light's centre as
   // rounded below, in double on the host), world-to-camera rotation rows.
   float f_px, eye_rel_x, eye_rel_y, eye_rel_z;

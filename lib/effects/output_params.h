@@ -12,4 +12,5 @@ inline constexpr params::Int max_channels{"limits.max_channels"};
 inline constexpr params::Int max_memory_mb{"limits.max_memory_mb"};
 inline constexpr params::Int tile_size{"limits.tile_size"};
 inline constexpr params::Number check_seconds{"limits.check_seconds"};
+inline constexpr params::Choice positions{"input.positions"};
 }  // namespace isg::effects::output_keys

@@ -1,6 +1,7 @@
 #include "run/job.h"
 
 #include "effects/output_params.h"
+#include "effects/view.h"
 #include "io/color.h"
 
 #include <algorithm>
@@ -9,6 +10,7 @@
 #include <map>
 #include <cstdio>
 #include <regex>
+#include <sstream>
 #include <stdexcept>
 
 namespace isg::run {
@@ -17,6 +19,26 @@ namespace fs = std::filesystem;
 using Clock = std::chrono::steady_clock;
 
 namespace {
+
+// input.positions (issue 19): positions from P, or from Z and the camera where P's float32 step
+// (2^-23 of its magnitude, which far from the world origin is the eye's) is over 64 times Z's
+// (2^-23 of a depth across the scene): every effect then works from camera-relative depth,
+// which keeps its precision wherever the scene stands. Said in the output's isg:positions.
+void choose_positions(const JobConfig& job, LoadedFrame& f) {
+  if (!f.roles.has("position") || !f.roles.has("depth") || !f.camera) return;
+  const std::string how = job.params.get(effects::output_keys::positions);
+  const auto eye = effects::PinholeView::of(*f.camera, std::max(f.img.height, 1)).eye;
+  const double m_p = std::max({std::abs(eye[0]), std::abs(eye[1]), std::abs(eye[2])}) +
+                     job.scene.scene_radius;
+  const double m_z = 2.0 * job.scene.scene_radius;
+  const bool use_z = how == "Z" || (how == "auto" && m_p > 64.0 * m_z);
+  if (!use_z) return;
+  f.roles.found.erase("position");
+  std::ostringstream note;
+  note << "Z and the camera (input.positions=" << how << "; P's float32 step " << m_p * 0x1p-23
+       << " m, Z's " << m_z * 0x1p-23 << " m)";
+  f.img.attributes.attribute("isg:positions", note.str());
+}
 
 // Roles, camera and plan of f.img (its header at least), whose file or name is f.input.
 void plan_image(const JobConfig& job, LoadedFrame& f) {
@@ -34,6 +56,7 @@ void plan_image(const JobConfig& job, LoadedFrame& f) {
   }
   f.camera = job.scene.camera;
   if (!f.camera) f.camera = io::camera_from_header(f.img);
+  choose_positions(job, f);
   f.plan = plan::make_plan(f.roles, job.scene, job.params, f.img.width, f.img.height,
                            f.camera ? &*f.camera : nullptr);
 }

@@ -74,7 +74,7 @@ struct Geom {
       if (best < 1e30) { t[size_t(found)] = bt; d[size_t(found++)] = bd; }
       spread = std::min(spread, best);
     }
-    if (spread >= 1e30) spread = 0.0;
+    spread = (spread >= 1e30 ? 0.0 : spread) + double(float(depth_eps(s)));
     if (found < 2) return {0, 0, spread};
     if (s.has_camera) {
       V3 nr = {t[0][1] * t[1][2] - t[0][2] * t[1][1], t[0][2] * t[1][0] - t[0][0] * t[1][2],

@@ -19,6 +19,7 @@ inline constexpr params::Choice pcss_pattern{"shadows.pcss_pattern"};
 inline constexpr params::Number bias{"shadows.bias"};
 inline constexpr params::Number slope_max{"shadows.slope_max"};
 inline constexpr params::Number spread_bias{"shadows.spread_bias"};
+inline constexpr params::Number depth_ulps{"shadows.depth_ulps"};
 inline constexpr params::Number smap_max_radius{"shadows.smap_max_radius"};
 inline constexpr params::Int vssm_m{"shadows.vssm_m"};
 inline constexpr params::Int vssm_h{"shadows.vssm_h"};

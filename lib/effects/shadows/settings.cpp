@@ -93,6 +93,7 @@ ShadowmapSettings shadowmap_settings(const io::Light& light, const io::Camera* c
   s.bias = p.get(shadow_keys::bias);
   s.slope_max = p.get(shadow_keys::slope_max);
   s.spread_bias = p.get(shadow_keys::spread_bias);
+  s.depth_ulps = p.get(shadow_keys::depth_ulps);
   s.max_radius = p.get(shadow_keys::smap_max_radius);
   s.scene_radius = scene_radius;
   s.vssm_m = int(p.get(shadow_keys::vssm_m));

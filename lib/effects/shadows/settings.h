@@ -68,6 +68,7 @@ struct ShadowmapSettings {
   double bias = 2.0;                      // shadows.bias, receiver texel footprints
   double slope_max = 4.0;                 // shadows.slope_max
   double spread_bias = 2.0;               // shadows.spread_bias
+  double depth_ulps = 1.0;                // shadows.depth_ulps
   double max_radius = 64.0;               // shadows.smap_max_radius, texels
   double scene_radius = 1.0;              // the scene file's scene_radius (r of §7.5.4-7.5.5)
   // vssm (thesis ch. 7)
