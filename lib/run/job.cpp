@@ -23,7 +23,8 @@ namespace {
 // input.positions (issue 19): positions from P, or from Z and the camera where P's float32 step
 // (2^-23 of its magnitude, which far from the world origin is the eye's) is over 64 times Z's
 // (2^-23 of a depth across the scene): every effect then works from camera-relative depth,
-// which keeps its precision wherever the scene stands. Said in the output's isg:positions.
+// which keeps its precision wherever the scene stands. Said in the output's isg:positions
+// (prepare_pixels: the header read here is replaced by the pixels).
 void choose_positions(const JobConfig& job, LoadedFrame& f) {
   if (!f.roles.has("position") || !f.roles.has("depth") || !f.camera) return;
   const std::string how = job.params.get(effects::output_keys::positions);
@@ -37,7 +38,7 @@ void choose_positions(const JobConfig& job, LoadedFrame& f) {
   std::ostringstream note;
   note << "Z and the camera (input.positions=" << how << "; P's float32 step " << m_p * 0x1p-23
        << " m, Z's " << m_z * 0x1p-23 << " m)";
-  f.img.attributes.attribute("isg:positions", note.str());
+  f.positions = note.str();
 }
 
 // Roles, camera and plan of f.img (its header at least), whose file or name is f.input.
@@ -75,6 +76,7 @@ void check_missing(const LoadedFrame& f) {
 // Pixels as the passes take them: NaN/Inf to 0, the beauty scene-linear.
 void prepare_pixels(const JobConfig& job, LoadedFrame& f) {
   f.nonfinite = io::sanitize(f.img);
+  if (!f.positions.empty()) f.img.attributes.attribute("isg:positions", f.positions);
   load_effects(f);
   if (!job.input_colorspace.empty()) {
     const auto& rgb = f.roles.get("beauty")->terms.front();

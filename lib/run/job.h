@@ -37,6 +37,7 @@ struct LoadedFrame {
   std::optional<io::Camera> camera;  // the scene file's, else the EXR header's
   std::vector<io::NonFinite> nonfinite;
   std::set<std::string> warnings;  // from the load stage (e.g. NaN depths in a shadow map)
+  std::string positions;  // where input.positions took positions from other than P (isg:positions)
   double read_ms = 0;
 };
 

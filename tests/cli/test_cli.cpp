@@ -10,34 +10,17 @@
 
 #include "io/image.h"
 #include "io/scene.h"
+#include "support/command.h"
 #include "support/images.h"
 
 namespace fs = std::filesystem;
 
 namespace {
 
-struct Result {
-  int code = -1;
-  std::string out, err;
-};
+using Result = isg::test::CommandResult;
 
 Result run_isg(const std::string& args) {
-  static int k = 0;
-  auto dir = fs::temp_directory_path();
-  auto o = dir / ("isg-cli-out-" + std::to_string(::getpid()) + "-" + std::to_string(k));
-  auto e = dir / ("isg-cli-err-" + std::to_string(::getpid()) + "-" + std::to_string(k++));
-  std::string cmd = std::string(ISG_BINARY) + " " + args + " >" + o.string() + " 2>" + e.string() + " </dev/null";
-  int rc = std::system(cmd.c_str());
-  Result r;
-  r.code = WIFEXITED(rc) ? WEXITSTATUS(rc) : -1;
-  std::stringstream so, se;
-  so << std::ifstream(o).rdbuf();
-  se << std::ifstream(e).rdbuf();
-  r.out = so.str();
-  r.err = se.str();
-  fs::remove(o);
-  fs::remove(e);
-  return r;
+  return isg::test::run_command(std::string(ISG_BINARY) + " " + args);
 }
 
 std::string q(const fs::path& p) { return "'" + p.string() + "'"; }
@@ -96,6 +79,29 @@ TEST_F(Cli, RunWritesEveryChannelPlusProvenance) {
   EXPECT_EQ(b.attributes.get_string("isg:param:shadows.method"), "hard");
   EXPECT_FALSE(b.attributes.get_string("isg:device").empty());
   EXPECT_FALSE(b.attributes.get_string("isg:version").empty());
+}
+
+// input.positions=Z: the plan reads depth instead of P, and the output says so (isg:positions);
+// the default P leaves both as they were.
+TEST_F(Cli, PositionsFromDepthAreChosenAndRecorded) {
+  const fs::path sample = fs::path(ISG_SOURCE_DIR) / "samples" / "contact";
+  const std::string base = std::string("run ") + q(sample / "aovs.exr") + " --scene " +
+                           q(sample / "scene.json") + " --set shadows.method=isg";
+  for (const bool z : {false, true}) {
+    const std::string set = z ? " --set input.positions=Z" : "";
+    auto plan = run_isg(base + set + " --dry-run");
+    ASSERT_EQ(plan.code, 0) << plan.err;
+    const auto line = plan.out.substr(plan.out.find("shadows.isg[key]"));
+    const auto reads = line.substr(0, line.find('\n'));
+    EXPECT_EQ(reads.find("position") != std::string::npos, !z) << reads;
+    EXPECT_EQ(reads.find("depth") != std::string::npos, z) << reads;
+    const fs::path o = dir / (z ? "z.exr" : "p.exr");
+    auto r = run_isg(base + set + " -o " + q(o));
+    ASSERT_EQ(r.code, 0) << r.err;
+    const std::string note = isg::io::read_exr(o).attributes.get_string("isg:positions");
+    EXPECT_EQ(note.rfind("Z and the camera (input.positions=Z", 0) == 0, z) << note;
+    EXPECT_EQ(note.empty(), !z) << note;
+  }
 }
 
 TEST_F(Cli, RunsAreBitwiseIdentical) {

@@ -6,35 +6,17 @@
 #include <fstream>
 #include <sstream>
 
+#include "support/command.h"
 #include "support/images.h"
 
 namespace fs = std::filesystem;
 
 namespace {
 
-struct Result {
-  int code = -1;
-  std::string out, err;
-};
+using Result = isg::test::CommandResult;
 
 Result isg_cli(const std::string& args) {
-  static int k = 0;
-  const auto dir = fs::temp_directory_path();
-  const auto o = dir / ("isg-farm-out-" + std::to_string(::getpid()) + "-" + std::to_string(k));
-  const auto e = dir / ("isg-farm-err-" + std::to_string(::getpid()) + "-" + std::to_string(k++));
-  const std::string cmd =
-      std::string(ISG_BINARY) + " " + args + " >" + o.string() + " 2>" + e.string() + " </dev/null";
-  const int rc = std::system(cmd.c_str());
-  Result r;
-  r.code = WIFEXITED(rc) ? WEXITSTATUS(rc) : -1;
-  std::stringstream so, se;
-  so << std::ifstream(o).rdbuf();
-  se << std::ifstream(e).rdbuf();
-  r.out = so.str();
-  r.err = se.str();
-  fs::remove(o);
-  fs::remove(e);
-  return r;
+  return isg::test::run_command(std::string(ISG_BINARY) + " " + args);
 }
 
 std::string q(const fs::path& p) { return "'" + p.string() + "'"; }
