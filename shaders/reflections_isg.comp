@@ -132,31 +132,41 @@ float search(Lobe L, uint i) {
   return sw > 1e-6 ? st / sw : 1.0;
 }
 
-vec3 gather(Lobe L, uint i, float t_bar) {
-  float alpha = L.alpha, cos_i = L.cos_i;
-  // Eq. 13: tan α = E·tan θ / (e + E): a reflected deviation θ lands k·tan θ pixels away.
-  // A footprint over max_radius truncates the cone rather than squeezing the lobe.
-  float k_px = t_bar * pc.f_px;
-  float th_max = 0.5 * min(L.theta_max, atan(pc.max_radius / max(k_px, 1e-6)));
-  float R_s = k_px * tan(2.0 * th_max);
-  // Energy the rough lobe loses to masking-shadowing (Smith, height-correlated, the lobe
-  // narrow enough that the incident angle is the mirror's): albedo 1 / (1 + 2·Λ(θ_i)).
-  float tan2 = (1.0 - cos_i * cos_i) / (cos_i * cos_i);
-  float albedo = (pc.flags & 16u) != 0u ? 1.0 / sqrt(1.0 + alpha * alpha * tan2) : 1.0;
-  vec3 c0 = pack_color[i].rgb;
-  if (R_s < 0.25) return albedo * c0;
+// The gather's footprint (eq. 13: tan α = E·tan θ / (e + E), a reflected deviation θ lands
+// k·tan θ pixels away): k = t̄·f in pixels, the cone's half-angle th_max and its radius R_s. A
+// footprint over max_radius truncates the cone rather than squeezing the lobe.
+struct Foot {
+  float k_px, th_max, R_s;
+};
+Foot footprint(Lobe L, float t_bar) {
+  Foot F;
+  F.k_px = t_bar * pc.f_px;
+  F.th_max = 0.5 * min(L.theta_max, atan(pc.max_radius / max(F.k_px, 1e-6)));
+  F.R_s = F.k_px * tan(2.0 * F.th_max);
+  return F;
+}
 
-  // Gather (eq. 4): the samples are reflected directions placed by the lobe (the grid's radius
-  // warped through the NDF's CDF in θ_h, ξ = tan²θ_h / (α² + tan²θ_h) up to the cone's ξ_max),
-  // each landing k·tan 2θ_h pixels away along its azimuth (eq. 14 narrows the minor axis);
-  // what is left of the GGX weight per solid angle is 1 / cos θ_h. With τ = tan θ_h =
-  // α·sqrt(ξ/(1−ξ)): tan 2θ_h = 2τ/(1−τ²) and 1/cos θ_h = sqrt(1+τ²) (θ_h ≤ 0.65, so τ < 1).
-  float tm = tan(th_max);
+// Energy the rough lobe loses to masking-shadowing (Smith, height-correlated, the lobe narrow
+// enough that the incident angle is the mirror's): albedo 1 / (1 + 2·Λ(θ_i)).
+float albedo_of(Lobe L) {
+  float tan2 = (1.0 - L.cos_i * L.cos_i) / (L.cos_i * L.cos_i);
+  return (pc.flags & 16u) != 0u ? 1.0 / sqrt(1.0 + L.alpha * L.alpha * tan2) : 1.0;
+}
+
+// Gather (eq. 4): the weighted mean of refl over the lobe, the centre pixel included. The samples
+// are reflected directions placed by the lobe (the grid's radius warped through the NDF's CDF in
+// θ_h, ξ = tan²θ_h / (α² + tan²θ_h) up to the cone's ξ_max), each landing k·tan 2θ_h pixels away
+// along its azimuth (eq. 14 narrows the minor axis); what is left of the GGX weight per solid
+// angle is 1 / cos θ_h. With τ = tan θ_h = α·sqrt(ξ/(1−ξ)): tan 2θ_h = 2τ/(1−τ²) and
+// 1/cos θ_h = sqrt(1+τ²) (θ_h ≤ 0.65, so τ < 1).
+vec3 gather_mean(Lobe L, uint i, Foot F) {
+  float alpha = L.alpha;
+  float tm = tan(F.th_max);
   float xi_max = tm * tm / (alpha * alpha + tm * tm);
-  vec3 s = c0;
+  vec3 s = pack_color[i].rgb;
   float ws = 1.0;
   uint gs = pc.grids & 0xffffu, gg = pc.grids >> 16;
-  mat2 FK = k_px * L.F;
+  mat2 FK = F.k_px * L.F;
   for (uint k = 0u; k < gg * gg; ++k) {
     vec4 u = samples[gs * gs + k];
     float xi = xi_max * u.w;
@@ -171,15 +181,48 @@ vec3 gather(Lobe L, uint i, float t_bar) {
     s += w * c.rgb;
     ws += w;
   }
-  return albedo * mix(c0, s / ws, smoothstep(0.25, 0.75, R_s));
+  return s / ws;
 }
 
-// The search at half resolution: one per 2×2 quad of the tile, from its first glossy pixel.
+vec3 gather(Lobe L, uint i, Foot F) {
+  vec3 c0 = pack_color[i].rgb;
+  if (F.R_s < 0.25) return albedo_of(L) * c0;
+  return albedo_of(L) * mix(c0, gather_mean(L, i, F), smoothstep(0.25, 0.75, F.R_s));
+}
+
+// The search and the wide gathers at half resolution (issue 18): one search per 2×2 quad of the
+// tile, from its first glossy pixel (the quad's representative), and that pixel's gather where
+// its footprint is wide.
 #define REFL_QUADS (REFL_TILE / 2u)
 #define REFL_NO_REP 0xffffffffu
-shared uint quad_rep[REFL_QUADS * REFL_QUADS];  // the representative's index, or REFL_NO_REP
-shared float quad_t[REFL_QUADS * REFL_QUADS];   // its t̄ (eq. 4 over t = E/(e+E))
-shared uint tile_searches;
+shared uint quad_rep[REFL_QUADS * REFL_QUADS];    // the representative's index, or REFL_NO_REP
+shared float quad_t[REFL_QUADS * REFL_QUADS];     // its t̄ (eq. 4 over t = E/(e+E))
+shared vec4 quad_mean[REFL_QUADS * REFL_QUADS];   // its gather_mean and R_s (w < 0: none)
+shared uint tile_searches, tile_gathers;
+
+// A wide lobe's mean (R_s ≥ REFL_REUSE_RADIUS) moves little from one pixel to the next: the
+// pixel takes it bilinearly from the representatives' gathers around it in the tile's quad grid,
+// from those on its surface (eq. 10 range weight ≥ REFL_QUAD_SAME) whose footprint is within a
+// factor REFL_REUSE_RATIO of its own. False where they hold under REFL_REUSE_COVER of the
+// bilinear weight: the pixel gathers for itself.
+bool reuse(Lobe L, float R_s, out vec3 m) {
+  vec2 f = (vec2(gl_LocalInvocationID.xy) - 0.5) * 0.5;  // the pixel centre in quad units
+  vec2 q0 = clamp(floor(f), vec2(0.0), vec2(float(REFL_QUADS - 2u)));
+  vec2 a = clamp(f - q0, vec2(0.0), vec2(1.0));
+  vec3 s = vec3(0.0);
+  float ws = 0.0;
+  for (uint k = 0u; k < 4u; ++k) {
+    uint q = (uint(q0.y) + (k >> 1u)) * REFL_QUADS + uint(q0.x) + (k & 1u);
+    float w = ((k & 1u) != 0u ? a.x : 1.0 - a.x) * ((k >> 1u) != 0u ? a.y : 1.0 - a.y);
+    vec4 c = quad_mean[q];
+    if (w <= 0.0 || c.w < 0.0 || c.w * REFL_REUSE_RATIO < R_s || R_s * REFL_REUSE_RATIO < c.w) continue;
+    if (range_fn(pack_geo[quad_rep[q]], L.P0, L.N0) < REFL_QUAD_SAME) continue;
+    s += w * c.rgb;
+    ws += w;
+  }
+  m = ws > 0.0 ? s / ws : vec3(0.0);
+  return ws >= REFL_REUSE_COVER;
+}
 
 vec3 refl_isg(uvec2 p, uint i) {
   Lobe L = lobe_at(p, i);
@@ -191,20 +234,24 @@ vec3 refl_isg(uvec2 p, uint i) {
     t_bar = search(L, i);
     atomicAdd(tile_searches, 1u);
   }
-  return gather(L, i, t_bar);
+  Foot F = footprint(L, t_bar);
+  vec3 m;
+  if (F.R_s >= REFL_REUSE_RADIUS && reuse(L, F.R_s, m)) return albedo_of(L) * m;
+  if (F.R_s >= 0.25) atomicAdd(tile_gathers, 1u);
+  return gather(L, i, F);
 }
 
 void main() {
   uvec2 p = gl_GlobalInvocationID.xy;
   bool inside = p.x < pc.width && p.y < pc.height;
   uint i = inside ? p.y * pc.width + p.x : 0u;
-  if (gl_LocalInvocationIndex == 0u) { tile_glossy = 0u; tile_searches = 0u; }
+  if (gl_LocalInvocationIndex == 0u) { tile_glossy = 0u; tile_searches = 0u; tile_gathers = 0u; }
   barrier();
   bool g = inside && is_glossy(i);
   if (g) atomicAdd(tile_glossy, 1u);
   barrier();
-  // The quads' searches, one invocation per quad (the first REFL_QUADS² lanes, so that whole
-  // SIMD rows of llvmpipe sit idle rather than three lanes in four).
+  // The quads' searches and wide gathers, one invocation per quad (the first REFL_QUADS² lanes,
+  // so that whole SIMD rows of llvmpipe sit idle rather than three lanes in four).
   uint q = gl_LocalInvocationIndex;
   if (tile_glossy != 0u && pc.mode == REFL_MODE_ISG && q < REFL_QUADS * REFL_QUADS) {
     uvec2 base = gl_WorkGroupID.xy * REFL_TILE + 2u * uvec2(q % REFL_QUADS, q / REFL_QUADS);
@@ -218,9 +265,17 @@ void main() {
       }
     }
     quad_rep[q] = r;
+    quad_mean[q] = vec4(0.0, 0.0, 0.0, -1.0);
     if (r != REFL_NO_REP) {
-      quad_t[q] = search(lobe_at(rp, r), r);
+      Lobe L = lobe_at(rp, r);
+      float t = search(L, r);
+      quad_t[q] = t;
       atomicAdd(tile_searches, 1u);
+      Foot F = footprint(L, t);
+      if (F.R_s >= REFL_REUSE_RADIUS) {
+        quad_mean[q] = vec4(gather_mean(L, r, F), F.R_s);
+        atomicAdd(tile_gathers, 1u);
+      }
     }
   }
   barrier();
@@ -228,10 +283,13 @@ void main() {
   if (tile_glossy != 0u && g) c = pc.mode == REFL_MODE_BLUR ? refl_blur(p, i) : refl_isg(p, i);
   barrier();
   // Tiles with nothing glossy take the cheap path: refl.glossy = refl. The others record how
-  // many pixels gathered and how many searches ran (the statistics behind --timings).
-  if (gl_LocalInvocationIndex == 0u)
-    tiles[gl_WorkGroupID.y * gl_NumWorkGroups.x + gl_WorkGroupID.x] =
-        tile_glossy == 0u ? 1.0 : -float(tile_glossy + REFL_STATS_SEARCHES * tile_searches);
+  // many pixels were glossy, how many searches and how many gathers ran (the statistics behind
+  // --timings; the gathers in the second half of refl.tiles).
+  if (gl_LocalInvocationIndex == 0u) {
+    uint t = gl_WorkGroupID.y * gl_NumWorkGroups.x + gl_WorkGroupID.x;
+    tiles[t] = tile_glossy == 0u ? 1.0 : -float(tile_glossy + REFL_STATS_SEARCHES * tile_searches);
+    tiles[gl_NumWorkGroups.x * gl_NumWorkGroups.y + t] = float(tile_gathers);
+  }
   if (!inside) return;
   uint n = pc.width * pc.height;
   glossy[i] = c.r; glossy[n + i] = c.g; glossy[2u * n + i] = c.b;

@@ -23,7 +23,15 @@ ISG_IO_BEGIN
 // The parameter search runs once per 2×2 quad (its first glossy pixel); a pixel whose range
 // weight (eq. 10) to that representative is below this searches for itself.
 #define REFL_QUAD_SAME 0.5
-// refl.tiles holds −(glossy pixels + REFL_STATS_SEARCHES · searches) for a tile that gathered.
+// A lobe whose footprint R_s (eq. 13) is at least this many pixels takes its gather bilinearly
+// from the gathers of the quads' representatives around it (on its surface, their footprints
+// within a factor REFL_REUSE_RATIO of its own, holding at least REFL_REUSE_COVER of the bilinear
+// weight); narrower lobes, and pixels without such neighbours, gather for themselves.
+#define REFL_REUSE_RADIUS 32.0
+#define REFL_REUSE_RATIO 1.25
+#define REFL_REUSE_COVER 0.5
+// refl.tiles holds −(glossy pixels + REFL_STATS_SEARCHES · searches) for a tile that gathered
+// (1 for a cheap tile), then the number of gathers each tile ran.
 #define REFL_STATS_SEARCHES 1024u
 struct ReflIsgPush {
   uint width;

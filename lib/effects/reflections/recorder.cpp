@@ -48,7 +48,7 @@ class ReflRecorder final : public Recorder {
     const auto& s = inst.s;
     out.gathers.push_back({frame_[&inst].label, rt.glossy_pixels,
                            rt.searches * uint64_t(s.grid_search * s.grid_search) +
-                               rt.glossy_pixels * uint64_t(s.grid_gather * s.grid_gather)});
+                               rt.gathers * uint64_t(s.grid_gather * s.grid_gather)});
     frame_.erase(&inst);
   }
 

@@ -160,29 +160,36 @@ struct Ctx {
     return sw > 1e-6 ? st / sw : 1.0;
   }
 
-  V3 gather(const Lobe& L, size_t i, double t_bar) const {
-    const double alpha = L.alpha, cos_i = L.cos_i;
-    // Eq. 13 per reflected direction: a deviation θ lands k·tan θ pixels away.
-    const double k_px = t_bar * s.f_px;
-    const double th_max =
-        0.5 * std::min(L.theta_max, std::atan(s.max_radius / std::max(k_px, 1e-6)));
-    const double R_s = k_px * std::tan(2.0 * th_max);
-    // Masking-shadowing loss: albedo 1 / (1 + 2·Λ(θ_i)) = 1 / sqrt(1 + α² tan²θ_i).
-    const double tan2 = (1.0 - cos_i * cos_i) / (cos_i * cos_i);
-    const double albedo = s.masking ? 1.0 / std::sqrt(1.0 + alpha * alpha * tan2) : 1.0;
-    V3 c0 = rgb(in.refl, i);
-    if (R_s < 0.25) return {albedo * c0[0], albedo * c0[1], albedo * c0[2]};
-
-    // Samples are reflected directions placed by the lobe (NDF CDF in θ_h); weight 1/cos θ_h.
-    const double tm2 = std::tan(th_max) * std::tan(th_max);
+  // The gather's footprint (eq. 13 per reflected direction: a deviation θ lands k·tan θ pixels
+  // away): k = t̄·f, the cone's half-angle and its radius R_s.
+  struct Foot {
+    double k_px, th_max, R_s;
+  };
+  Foot footprint(const Lobe& L, double t_bar) const {
+    Foot F;
+    F.k_px = t_bar * s.f_px;
+    F.th_max = 0.5 * std::min(L.theta_max, std::atan(s.max_radius / std::max(F.k_px, 1e-6)));
+    F.R_s = F.k_px * std::tan(2.0 * F.th_max);
+    return F;
+  }
+  // Masking-shadowing loss: albedo 1 / (1 + 2·Λ(θ_i)) = 1 / sqrt(1 + α² tan²θ_i).
+  double albedo(const Lobe& L) const {
+    const double tan2 = (1.0 - L.cos_i * L.cos_i) / (L.cos_i * L.cos_i);
+    return s.masking ? 1.0 / std::sqrt(1.0 + L.alpha * L.alpha * tan2) : 1.0;
+  }
+  // Eq. 4: the weighted mean of refl over the lobe, the centre included. Samples are reflected
+  // directions placed by the lobe (NDF CDF in θ_h); weight 1/cos θ_h.
+  V3 gather_mean(const Lobe& L, size_t i, const Foot& F) const {
+    const double alpha = L.alpha;
+    const double tm2 = std::tan(F.th_max) * std::tan(F.th_max);
     const double xi_max = tm2 / (alpha * alpha + tm2);
-    V3 sum = c0;
+    V3 sum = rgb(in.refl, i);
     double ws = 1.0;
     for (int k = 0; k < s.grid_gather * s.grid_gather; ++k) {
       V2 c = concentric(k, s.grid_gather);
       const double rho_u = len2(c), xi = xi_max * rho_u * rho_u;
       const double th = std::atan(alpha * std::sqrt(xi / (1.0 - xi)));
-      const double f = rho_u > 0 ? k_px * std::tan(2.0 * th) / rho_u : 0.0;
+      const double f = rho_u > 0 ? F.k_px * std::tan(2.0 * th) / rho_u : 0.0;
       const V2 q = L.at(c, f);
       const double wd = 1.0 / std::cos(th);
       const size_t t = tap(q);
@@ -192,15 +199,29 @@ struct Ctx {
       for (int c3 = 0; c3 < 3; ++c3) sum[c3] += w * r[c3];
       ws += w;
     }
-    double m = smoothstep(0.25, 0.75, R_s);
+    return {sum[0] / ws, sum[1] / ws, sum[2] / ws};
+  }
+  V3 gather(const Lobe& L, size_t i, const Foot& F) const {
+    const double al = albedo(L);
+    V3 c0 = rgb(in.refl, i);
+    if (F.R_s < 0.25) return {al * c0[0], al * c0[1], al * c0[2]};
+    const V3 mean = gather_mean(L, i, F);
+    double m = smoothstep(0.25, 0.75, F.R_s);
     V3 out;
-    for (int c3 = 0; c3 < 3; ++c3) out[c3] = albedo * (c0[c3] + (sum[c3] / ws - c0[c3]) * m);
+    for (int c3 = 0; c3 < 3; ++c3) out[c3] = al * (c0[c3] + (mean[c3] - c0[c3]) * m);
     return out;
   }
 
-  // The search at half resolution (issue 18): one search per 2×2 quad, from its first glossy
-  // pixel (the representative); a pixel on another surface than its representative (range
+  // The search and the wide gathers at half resolution (issue 18): one search per 2×2 quad,
+  // from its first glossy pixel (the representative), and that pixel's gather where its footprint
+  // is at least REFL_REUSE_RADIUS; a pixel on another surface than its representative (range
   // weight below REFL_QUAD_SAME) searches for itself. Quads are aligned to even pixels.
+  struct Quad {
+    bool done = false;
+    size_t rep = size_t(-1);  // none: no glossy pixel in the quad
+    double t = 1.0, R_s = -1.0;  // R_s < 0: no wide gather
+    V3 mean{};
+  };
   size_t quad_rep(int x, int y) const {
     const int qx = x & ~1, qy = y & ~1;
     for (int k = 0; k < 4; ++k) {
@@ -209,13 +230,53 @@ struct Ctx {
     }
     return size_t(-1);
   }
-  V3 isg(int x, int y, size_t i, std::vector<double>& quad_t) const {
+  const Quad& quad(int qx, int qy, std::vector<Quad>& quads) const {
+    Quad& Q = quads[size_t(qy) * ((in.w + 1) / 2) + qx];
+    if (Q.done) return Q;
+    Q.done = true;
+    Q.rep = quad_rep(2 * qx, 2 * qy);
+    if (Q.rep == size_t(-1)) return Q;
+    const Lobe L = lobe(int(Q.rep % in.w), int(Q.rep / in.w), Q.rep);
+    Q.t = search(L, Q.rep);
+    const Foot F = footprint(L, Q.t);
+    if (F.R_s >= REFL_REUSE_RADIUS) Q.R_s = F.R_s, Q.mean = gather_mean(L, Q.rep, F);
+    return Q;
+  }
+  // A wide lobe's mean, bilinear from the representatives' gathers around the pixel in its
+  // tile's quad grid (those on its surface whose footprint is within REFL_REUSE_RATIO of its
+  // own); false where they hold under REFL_REUSE_COVER of the bilinear weight.
+  bool reuse(int x, int y, const Lobe& L, double R_s, std::vector<Quad>& quads, V3& m) const {
+    const int lx = x % REFL_TILE, ly = y % REFL_TILE, quads_per_tile = REFL_TILE / 2;
+    const double fx = (lx - 0.5) * 0.5, fy = (ly - 0.5) * 0.5;
+    const double q0x = std::clamp(std::floor(fx), 0.0, double(quads_per_tile - 2));
+    const double q0y = std::clamp(std::floor(fy), 0.0, double(quads_per_tile - 2));
+    const double ax = std::clamp(fx - q0x, 0.0, 1.0), ay = std::clamp(fy - q0y, 0.0, 1.0);
+    V3 sum{};
+    double ws = 0.0;
+    for (int k = 0; k < 4; ++k) {
+      const int qx = (x - lx) / 2 + int(q0x) + (k & 1), qy = (y - ly) / 2 + int(q0y) + (k >> 1);
+      const double w = ((k & 1) ? ax : 1.0 - ax) * ((k >> 1) ? ay : 1.0 - ay);
+      if (w <= 0.0 || 2 * qx >= in.w || 2 * qy >= in.h) continue;
+      const Quad& Q = quad(qx, qy, quads);
+      if (Q.R_s < 0.0 || Q.R_s * REFL_REUSE_RATIO < R_s || R_s * REFL_REUSE_RATIO < Q.R_s) continue;
+      if (range(Q.rep, L.P0, L.N0) < REFL_QUAD_SAME) continue;
+      for (int c3 = 0; c3 < 3; ++c3) sum[c3] += w * Q.mean[c3];
+      ws += w;
+    }
+    if (ws > 0.0) m = {sum[0] / ws, sum[1] / ws, sum[2] / ws};
+    return ws >= REFL_REUSE_COVER;
+  }
+  V3 isg(int x, int y, size_t i, std::vector<Quad>& quads) const {
     const Lobe L = lobe(x, y, i);
-    const size_t r = quad_rep(x, y);
-    double& tq = quad_t[size_t(y / 2) * ((in.w + 1) / 2) + x / 2];
-    if (std::isnan(tq)) tq = r == i ? search(L, i) : search(lobe(int(r % in.w), int(r / in.w), r), r);
-    const bool same = r == i || range(r, L.P0, L.N0) >= REFL_QUAD_SAME;
-    return gather(L, i, same ? tq : search(L, i));
+    const Quad& Q = quad(x / 2, y / 2, quads);
+    const bool same = Q.rep == i || range(Q.rep, L.P0, L.N0) >= REFL_QUAD_SAME;
+    const Foot F = footprint(L, same ? Q.t : search(L, i));
+    V3 m{};
+    if (F.R_s >= REFL_REUSE_RADIUS && reuse(x, y, L, F.R_s, quads, m)) {
+      const double al = albedo(L);
+      return {al * m[0], al * m[1], al * m[2]};
+    }
+    return gather(L, i, F);
   }
 };
 }  // namespace
@@ -231,8 +292,7 @@ std::vector<float> reflections_reference(const ReflInputs& in, const ReflSetting
   std::vector<float> out(in.refl.begin(), in.refl.begin() + 3 * n);
   const int tx = (in.w + REFL_TILE - 1) / REFL_TILE, ty = (in.h + REFL_TILE - 1) / REFL_TILE;
   if (tiles) tiles->assign(size_t(tx) * ty, 0.0f);
-  std::vector<double> quad_t(size_t((in.w + 1) / 2) * ((in.h + 1) / 2),
-                             std::numeric_limits<double>::quiet_NaN());
+  std::vector<Ctx::Quad> quads(size_t((in.w + 1) / 2) * ((in.h + 1) / 2));
   for (int by = 0; by < ty; ++by) {
     for (int bx = 0; bx < tx; ++bx) {
       bool any = false;
@@ -245,7 +305,7 @@ std::vector<float> reflections_reference(const ReflInputs& in, const ReflSetting
         for (int x = bx * REFL_TILE; x < std::min(in.w, (bx + 1) * REFL_TILE); ++x) {
           const size_t i = size_t(y) * in.w + x;
           if (!c.glossy(i)) continue;
-          V3 v = s.method == "blur" ? c.blur(x, y, i) : c.isg(x, y, i, quad_t);
+          V3 v = s.method == "blur" ? c.blur(x, y, i) : c.isg(x, y, i, quads);
           for (int k = 0; k < 3; ++k) out[k * n + i] = float(v[k]);
         }
       }
@@ -344,9 +404,11 @@ void ReflectionsPass::record_gather(gpu::Sequence& seq, const ReflBuffers& b, ui
 
 ReflTileStats ReflectionsPass::stats(const gpu::Buffer& tiles, uint32_t w, uint32_t h) {
   const uint32_t nt = refl_tiles(w, h);
-  auto t = tiles.download_as<float>(nt);
+  auto t = tiles.download_as<float>(2 * size_t(nt));
   ReflTileStats st;
   size_t k = 0;
+  for (uint32_t j = nt; j < 2 * nt; ++j) st.gathers += uint64_t(t[j]);
+  t.resize(nt);
   for (float v : t) {
     k += v > 0.0f ? 1 : 0;
     const uint64_t c = v < 0.0f ? uint64_t(-v) : 0;

@@ -41,7 +41,7 @@ ReflSettings refl_settings(const io::Camera& cam, double scene_radius, const par
 // is P(θ_h ≤ t) = tan²t / (α² + tan²t), so tan θ_h = α·sqrt(E / (1 − E)). θ_max = 2·θ_h.
 double ggx_cone_tan(double alpha, double energy);
 
-// 16x16 tiles (REFL_TILE) of a w x h image: the refl.tiles buffer's words.
+// 16x16 tiles (REFL_TILE) of a w x h image (refl.tiles holds two words per tile).
 uint32_t refl_tiles(uint32_t w, uint32_t h);
 
 }  // namespace isg::effects
