@@ -20,6 +20,14 @@ const float PI = 3.14159265358979;
 shared uint s_rp;     // the tile's largest search radius (float bits)
 shared uint s_reach;  // OR of the flags of the tiles within reach
 shared uint s_dloc;   // the largest occluder distance of the tiles within reach (float bits)
+// The search and the wide gathers at half resolution (issue 18): per 2×2 quad of the tile, its
+// first foreground pixel (the representative) searches, and gathers where its radius R_g is at
+// least SHADOWS_ISG_REUSE_RADIUS.
+#define QUADS (SHADOWS_ISG_TILE / 2u)
+#define NO_REP 0xffffffffu
+shared uint q_rep[QUADS * QUADS];  // the representative's index, or NO_REP
+shared float q_d[QUADS * QUADS];   // its mean occluder distance (eq. 4, 6, 7), < 0: none in reach
+shared vec2 q_g[QUADS * QUADS];    // its gather (eq. 4) and R_g; R_g < 0: no wide gather
 
 mat3 rot() {  // world -> camera; GLSL matrices are column-major
   return mat3(pc.r00, pc.r10, pc.r20, pc.r01, pc.r11, pc.r21, pc.r02, pc.r12, pc.r22);
@@ -68,6 +76,127 @@ float range_l(float l) {
 // Eq. 8: the penumbra radius R_s on the receiver for an occluder at d, the light at D.
 float penumbra(float d, float D) { return pc.light_size * d / max(D - d, SHADOWS_ISG_MIN_GAP * D); }
 
+// A foreground receiver: its position (P − eye), distance to the light, direction to it and
+// the world size of a pixel there (Camera::pixel_size_at) shrunk by cos θ_i: the penumbra's
+// stretch along the receiver.
+struct Recv {
+  vec3 P0, wl;
+  float D, pix;
+};
+Recv receiver(uvec2 p, vec3 P0) {
+  Recv R;
+  R.P0 = P0;
+  float z = max(-(rot() * P0).z, 1e-6);
+  R.D = length(light() - P0);
+  R.wl = (light() - P0) / max(R.D, 1e-20);
+  R.pix = z / pc.f_px * cos_incidence(p, P0, R.wl);
+  return R;
+}
+// The sample lattice's rotation at p (the pixel hash), scaled by a radius.
+mat2 lattice(uvec2 p, float radius) {
+  float ang = (pc.flags & SHADOWS_ISG_ROTATE) != 0u ? isg_pixel_angle(p + uvec2(pc.origin & 0xffffu, pc.origin >> 16)) : 0.0;
+  float ca = cos(ang), sa = sin(ang);
+  return radius * mat2(ca, sa, -sa, ca);
+}
+
+// Parameter search (eq. 4, 6, 7) at p over radius Rp: occluder distances weighted by
+// r = gaussian · inShadow, the centre tap included. The mean occluder distance, or -1 where no
+// occluder is within reach (the hard shadow stands).
+float search(Recv R, uvec2 p, uint i, float Rp) {
+  float s0 = shadow_in[i], o0 = occluder[i];
+  float sw = 0.0, swd = 0.0;
+  if (s0 < 1.0 && o0 > 0.0) {
+    sw = 1.0 - s0;
+    swd = sw * o0;
+  }
+  vec2 p0 = vec2(p + uvec2(pc.origin & 0xffffu, pc.origin >> 16)) + 0.5;  // frame coordinates
+  ivec2 org = ivec2(pc.origin & 0xffffu, pc.origin >> 16);
+  uint grid_search = pc.grids & 0xffffu;
+  mat2 Rot = lattice(p, Rp);
+  for (uint k = 0u; k < grid_search * grid_search; ++k) {
+    vec2 x = p0 + Rot * samples[k] - 0.5;
+    vec2 x0 = floor(x), f = x - x0;
+    ivec2 xa = ivec2(x0) - org;
+    for (int j = 0; j < 4; ++j) {
+      ivec2 xx = xa + ivec2(j & 1, j >> 1);
+      if (xx.x < 0 || xx.y < 0 || xx.x >= int(pc.width) || xx.y >= int(pc.height)) continue;
+      int t = xx.y * int(pc.width) + xx.x;
+      vec4 Tt = pack[t];
+      if (!foreground(Tt) || !(Tt.w < 1.0)) continue;
+      float ot = occluder[t];
+      if (!(ot > 0.0)) continue;
+      vec3 dP = Tt.xyz - R.P0;
+      float bw = ((j & 1) != 0 ? f.x : 1.0 - f.x) * ((j >> 1) != 0 ? f.y : 1.0 - f.y);
+      float r = range_l(length(dP)) * (1.0 - Tt.w) * bw;
+      float l = across(dP, R.wl);
+      if ((pc.flags & SHADOWS_ISG_SEARCH_REACH) != 0u) {
+        // PCSS's blocker test in image space: the occluder's own penumbra reaches p_0.
+        float Rt = penumbra(ot, length(light() - Tt.xyz));
+        r *= clamp((SHADOWS_ISG_REACH * Rt + R.pix - l) / R.pix, 0.0, 1.0);
+      }
+      sw += r;
+      swd += r * ot;
+    }
+  }
+  return sw > 0.0 ? swd / sw : -1.0;
+}
+
+// Gather (eq. 4) over the shadow bits: uniform over the points within R_s of p_0 across the
+// light direction (a one-pixel ramp at the rim): on the receiver, the penumbra's footprint,
+// stretched by 1 / cos θ_i; on grazing receivers the screen disk, which reaches far along the
+// surface, is cut back to it. The gaussian of eq. 6 as range function. Bilinear taps, here and
+// in the search: the shadow bits are a binary signal, and point taps of them alias (issue 18:
+// isg-synth contact's error rose 40 % with point taps in the gather, shared contact's 7 % at 9
+// search samples with point taps in the search).
+float gather(Recv R, uvec2 p, uint i, float Rs, float Rg) {
+  float sum = shadow_in[i], ws = 1.0;
+  vec2 p0 = vec2(p + uvec2(pc.origin & 0xffffu, pc.origin >> 16)) + 0.5;
+  ivec2 org = ivec2(pc.origin & 0xffffu, pc.origin >> 16);
+  uint grid_search = pc.grids & 0xffffu, grid_gather = pc.grids >> 16;
+  mat2 Rog = lattice(p, Rg);
+  for (uint k = 0u; k < grid_gather * grid_gather; ++k) {
+    vec2 x = p0 + Rog * samples[grid_search * grid_search + k] - 0.5;
+    vec2 x0 = floor(x), f = x - x0;
+    ivec2 xa = ivec2(x0) - org;
+    for (int j = 0; j < 4; ++j) {
+      ivec2 xx = xa + ivec2(j & 1, j >> 1);
+      if (xx.x < 0 || xx.y < 0 || xx.x >= int(pc.width) || xx.y >= int(pc.height)) continue;
+      vec4 Tt = pack[xx.y * int(pc.width) + xx.x];
+      if (!foreground(Tt)) continue;
+      vec3 dP = Tt.xyz - R.P0;
+      float l = across(dP, R.wl);
+      float bw = ((j & 1) != 0 ? f.x : 1.0 - f.x) * ((j >> 1) != 0 ? f.y : 1.0 - f.y);
+      float r = range_l(length(dP)) * clamp((Rs + 0.5 * R.pix - l) / R.pix, 0.0, 1.0) * bw;
+      sum += r * Tt.w;
+      ws += r;
+    }
+  }
+  return sum / ws;
+}
+
+// A wide penumbra's gather (R_g ≥ SHADOWS_ISG_REUSE_RADIUS) moves little from one pixel to the
+// next: bilinear from the representatives' gathers around the pixel in the tile's quad grid, from
+// those on its surface (eq. 6 weight ≥ SHADOWS_ISG_QUAD_SAME) whose R_g is within a factor
+// SHADOWS_ISG_REUSE_RATIO of its own. False where they hold under SHADOWS_ISG_REUSE_COVER of the
+// bilinear weight: the pixel gathers for itself.
+bool reuse(vec3 P0, float Rg, out float m) {
+  vec2 f = (vec2(gl_LocalInvocationID.xy) - 0.5) * 0.5;  // the pixel centre in quad units
+  vec2 q0 = clamp(floor(f), vec2(0.0), vec2(float(QUADS - 2u)));
+  vec2 a = clamp(f - q0, vec2(0.0), vec2(1.0));
+  float s = 0.0, ws = 0.0;
+  for (uint k = 0u; k < 4u; ++k) {
+    uint q = (uint(q0.y) + (k >> 1u)) * QUADS + uint(q0.x) + (k & 1u);
+    float w = ((k & 1u) != 0u ? a.x : 1.0 - a.x) * ((k >> 1u) != 0u ? a.y : 1.0 - a.y);
+    vec2 g = q_g[q];
+    if (w <= 0.0 || g.y < 0.0 || g.y * SHADOWS_ISG_REUSE_RATIO < Rg || Rg * SHADOWS_ISG_REUSE_RATIO < g.y) continue;
+    if (range_l(length(pack[q_rep[q]].xyz - P0)) < SHADOWS_ISG_QUAD_SAME) continue;
+    s += w * g.x;
+    ws += w;
+  }
+  m = ws > 0.0 ? s / ws : 0.0;
+  return ws >= SHADOWS_ISG_REUSE_COVER;
+}
+
 void main() {
   uvec2 p = gl_GlobalInvocationID.xy;
   bool inside = p.x < pc.width && p.y < pc.height;
@@ -86,19 +215,11 @@ void main() {
   // The reach of the widest penumbra in the image bounds the tiles to look at.
   vec4 t0_ = inside ? pack[i] : vec4(SHADOWS_ISG_BACKGROUND);
   bool fg0 = foreground(t0_);
-  vec3 P0 = vec3(0.0);
-  float D = 0.0, pix = 1.0, Rp_raw = 0.0;
-  vec3 wl = vec3(0.0, 0.0, 1.0);
+  Recv R;
   if (fg0) {
-    P0 = t0_.xyz;
-    float z = max(-(rot() * P0).z, 1e-6);
-    D = length(light() - P0);
-    wl = (light() - P0) / max(D, 1e-20);
-    // World size of a pixel at the receiver (Camera::pixel_size_at), shrunk by cos θ_i: the
-    // penumbra's stretch along the receiver.
-    pix = z / pc.f_px * cos_incidence(p, P0, wl);
-    Rp_raw = d_max > 0.0 ? penumbra(d_max, D) / pix : 0.0;
-    atomicMax(s_rp, floatBitsToUint(min(Rp_raw, pc.max_radius)));
+    R = receiver(p, t0_.xyz);
+    float Rp_max = d_max > 0.0 ? penumbra(d_max, R.D) / R.pix : 0.0;
+    atomicMax(s_rp, floatBitsToUint(min(Rp_max, pc.max_radius)));
   }
   barrier();
   // The tiles the search and the gather can reach (radius + 1 for the bilinear taps).
@@ -116,6 +237,43 @@ void main() {
   bool cheap = (pc.flags & SHADOWS_ISG_TILE_SKIP) != 0u &&
                s_reach != (SHADOWS_ISG_FLAG_LIT | SHADOWS_ISG_FLAG_SHADOW);
   if (gl_LocalInvocationIndex == 0u) tiles[2u * nt + gl_WorkGroupID.y * tiles_x + gl_WorkGroupID.x] = cheap ? 1u : 0u;
+  // Eq. 5: the search radius R_p covers the widest penumbra the occluders around can cast.
+  float d_loc = uintBitsToFloat(s_dloc);
+
+  // The quads' searches and wide gathers, one invocation per quad (the first QUADS² lanes, so
+  // that whole SIMD rows of llvmpipe sit idle rather than three lanes in four).
+  uint q = gl_LocalInvocationIndex;
+  if (!cheap && q < QUADS * QUADS) {
+    uvec2 base = gl_WorkGroupID.xy * SHADOWS_ISG_TILE + 2u * uvec2(q % QUADS, q / QUADS);
+    uint r = NO_REP;
+    uvec2 rp = base;
+    for (uint k = 0u; k < 4u; ++k) {
+      uvec2 pp = base + uvec2(k & 1u, k >> 1u);
+      if (r == NO_REP && pp.x < pc.width && pp.y < pc.height && foreground(pack[pp.y * pc.width + pp.x])) {
+        r = pp.y * pc.width + pp.x;
+        rp = pp;
+      }
+    }
+    q_rep[q] = r;
+    q_d[q] = -1.0;
+    q_g[q] = vec2(0.0, -1.0);
+    if (r != NO_REP) {
+      Recv Rr = receiver(rp, pack[r].xyz);
+      float Rp = min(d_loc > 0.0 ? penumbra(d_loc, Rr.D) / Rr.pix : 0.0, pc.max_radius);
+      float d = search(Rr, rp, r, Rp);
+      atomicAdd(tiles[3u * nt + SHADOWS_ISG_STAT_SEARCHES], 1u);
+      q_d[q] = d;
+      if (d >= 0.0) {
+        float Rs = penumbra(d, Rr.D);
+        float Rg = min(Rs / Rr.pix, pc.max_radius);
+        if (Rg >= SHADOWS_ISG_REUSE_RADIUS) {
+          q_g[q] = vec2(gather(Rr, rp, r, Rs, Rg), Rg);
+          atomicAdd(tiles[3u * nt + SHADOWS_ISG_STAT_GATHERS], 1u);
+        }
+      }
+    }
+  }
+  barrier();
   if (!inside) return;
   float s0 = shadow_in[i];
   // Background is left untouched; the cheap path keeps the hard shadow.
@@ -124,90 +282,32 @@ void main() {
     return;
   }
   atomicAdd(tiles[3u * nt + SHADOWS_ISG_STAT_FULL], 1u);
-  // Eq. 5: the search radius R_p covers the widest penumbra the occluders around can cast.
-  float d_loc = uintBitsToFloat(s_dloc);
-  Rp_raw = d_loc > 0.0 ? penumbra(d_loc, D) / pix : 0.0;
+  float Rp_raw = d_loc > 0.0 ? penumbra(d_loc, R.D) / R.pix : 0.0;
   bool clamped = Rp_raw > pc.max_radius;
-  float Rp = min(Rp_raw, pc.max_radius);
-  vec2 p0 = vec2(p + uvec2(pc.origin & 0xffffu, pc.origin >> 16)) + 0.5;  // frame coordinates
-  float ang = (pc.flags & SHADOWS_ISG_ROTATE) != 0u ? isg_pixel_angle(p + uvec2(pc.origin & 0xffffu, pc.origin >> 16)) : 0.0;
-  float ca = cos(ang), sa = sin(ang);
-
-  // Parameter search (eq. 4, 6, 7): occluder distances weighted by r = gaussian · inShadow,
-  // the centre tap included.
-  float o0 = occluder[i];
-  float sw = 0.0, swd = 0.0;
-  if (s0 < 1.0 && o0 > 0.0) {
-    sw = 1.0 - s0;
-    swd = sw * o0;
+  // The search: the quad representative's, unless the pixel lies on another surface.
+  uvec2 l = gl_LocalInvocationID.xy / 2u;
+  uint qs = l.y * QUADS + l.x, r = q_rep[qs];
+  float d = q_d[qs];
+  if (r != i && range_l(length(pack[r].xyz - R.P0)) < SHADOWS_ISG_QUAD_SAME) {
+    d = search(R, p, i, min(Rp_raw, pc.max_radius));
+    atomicAdd(tiles[3u * nt + SHADOWS_ISG_STAT_SEARCHES], 1u);
   }
-  uint grid_search = pc.grids & 0xffffu;
-  mat2 Rot = Rp * mat2(ca, sa, -sa, ca);
-  ivec2 org = ivec2(pc.origin & 0xffffu, pc.origin >> 16);
-  for (uint k = 0u; k < grid_search * grid_search; ++k) {
-    vec2 x = p0 + Rot * samples[k] - 0.5;
-    vec2 x0 = floor(x), f = x - x0;
-    ivec2 xa = ivec2(x0) - org;
-    for (int j = 0; j < 4; ++j) {
-      ivec2 xx = xa + ivec2(j & 1, j >> 1);
-      if (xx.x < 0 || xx.y < 0 || xx.x >= int(pc.width) || xx.y >= int(pc.height)) continue;
-      int t = xx.y * int(pc.width) + xx.x;
-      vec4 Tt = pack[t];
-      if (!foreground(Tt) || !(Tt.w < 1.0)) continue;
-      float ot = occluder[t];
-      if (!(ot > 0.0)) continue;
-      vec3 dP = Tt.xyz - P0;
-      float bw = ((j & 1) != 0 ? f.x : 1.0 - f.x) * ((j >> 1) != 0 ? f.y : 1.0 - f.y);
-      float r = range_l(length(dP)) * (1.0 - Tt.w) * bw;
-      float l = across(dP, wl);
-      if ((pc.flags & SHADOWS_ISG_SEARCH_REACH) != 0u) {
-        // PCSS's blocker test in image space: the occluder's own penumbra reaches p_0.
-        float Rt = penumbra(ot, length(light() - Tt.xyz));
-        r *= clamp((SHADOWS_ISG_REACH * Rt + pix - l) / pix, 0.0, 1.0);
-      }
-      sw += r;
-      swd += r * ot;
-    }
-  }
-  if (!(sw > 0.0)) {  // no occluder within reach: the hard shadow stands
+  if (d < 0.0) {  // no occluder within reach: the hard shadow stands
     soft[i] = s0;
     if (clamped) atomicAdd(tiles[3u * nt + SHADOWS_ISG_STAT_CLAMPED], 1u);
     return;
   }
-  float d = swd / sw;
   // Eq. 8-9: the penumbra radius R_s in the world, R_g in pixels at the receiver's depth.
-  float Rs = penumbra(d, D);
-  float Rg_raw = Rs / pix;
+  float Rs = penumbra(d, R.D);
+  float Rg_raw = Rs / R.pix;
   clamped = clamped || Rg_raw > pc.max_radius;
   float Rg = min(Rg_raw, pc.max_radius);
-
-  // Gather (eq. 4) over the shadow bits: uniform over the points within R_s of p_0 across the
-  // light direction (a one-pixel ramp at the rim): on the receiver, the penumbra's footprint,
-  // stretched by 1 / cos θ_i; on grazing receivers the screen disk, which reaches far along the
-  // surface, is cut back to it. The gaussian of eq. 6 as range function.
-  float sum = s0, ws = 1.0;
-  // Bilinear taps, here and in the search: the shadow bits are a binary signal, and point taps
-  // of them alias (issue 18: isg-synth contact's error rose 40 % with point taps in the gather,
-  // shared contact's 7 % at 9 search samples with point taps in the search).
-  uint grid_gather = pc.grids >> 16;
-  mat2 Rog = Rg * mat2(ca, sa, -sa, ca);
-  for (uint k = 0u; k < grid_gather * grid_gather; ++k) {
-    vec2 x = p0 + Rog * samples[grid_search * grid_search + k] - 0.5;
-    vec2 x0 = floor(x), f = x - x0;
-    ivec2 xa = ivec2(x0) - org;
-    for (int j = 0; j < 4; ++j) {
-      ivec2 xx = xa + ivec2(j & 1, j >> 1);
-      if (xx.x < 0 || xx.y < 0 || xx.x >= int(pc.width) || xx.y >= int(pc.height)) continue;
-      vec4 Tt = pack[xx.y * int(pc.width) + xx.x];
-      if (!foreground(Tt)) continue;
-      vec3 dP = Tt.xyz - P0;
-      float l = across(dP, wl);
-      float bw = ((j & 1) != 0 ? f.x : 1.0 - f.x) * ((j >> 1) != 0 ? f.y : 1.0 - f.y);
-      float r = range_l(length(dP)) * clamp((Rs + 0.5 * pix - l) / pix, 0.0, 1.0) * bw;
-      sum += r * Tt.w;
-      ws += r;
-    }
+  float m;
+  if (Rg >= SHADOWS_ISG_REUSE_RADIUS && reuse(R.P0, Rg, m)) {
+    soft[i] = m;
+  } else {
+    soft[i] = gather(R, p, i, Rs, Rg);
+    atomicAdd(tiles[3u * nt + SHADOWS_ISG_STAT_GATHERS], 1u);
   }
-  soft[i] = sum / ws;
   if (clamped) atomicAdd(tiles[3u * nt + SHADOWS_ISG_STAT_CLAMPED], 1u);
 }

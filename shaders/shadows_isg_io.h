@@ -14,7 +14,19 @@ ISG_IO_BEGIN
 #define SHADOWS_ISG_STAT_DMAX 0u     // the image's largest occluder distance (float bits)
 #define SHADOWS_ISG_STAT_CLAMPED 1u  // pixels whose search or gather radius exceeded max_radius
 #define SHADOWS_ISG_STAT_FULL 2u     // pixels that ran the search and gather
-#define SHADOWS_ISG_STATS 4u
+#define SHADOWS_ISG_STAT_SEARCHES 3u // parameter searches run (one per 2×2 quad, more at edges)
+#define SHADOWS_ISG_STAT_GATHERS 4u  // gathers run (one per quad for wide penumbrae, more at edges)
+#define SHADOWS_ISG_STATS 5u
+// The search runs once per 2×2 quad (its first foreground pixel, the representative); a pixel
+// whose eq. 6 range weight to the representative is below this searches for itself.
+#define SHADOWS_ISG_QUAD_SAME 0.5
+// A pixel whose gather radius R_g is at least this many pixels takes its result bilinearly from
+// the gathers of the quads' representatives around it (on its surface, R_g within a factor
+// SHADOWS_ISG_REUSE_RATIO of its own, holding at least SHADOWS_ISG_REUSE_COVER of the bilinear
+// weight); narrower penumbrae, and pixels without such neighbours, gather for themselves.
+#define SHADOWS_ISG_REUSE_RADIUS 32.0
+#define SHADOWS_ISG_REUSE_RATIO 1.25
+#define SHADOWS_ISG_REUSE_COVER 0.5
 // D − d is kept above this fraction of D in eq. 8 (occluders next to the light).
 #define SHADOWS_ISG_MIN_GAP 0.05
 // The search's blocker test counts an occluded sample whose penumbra, this many times its

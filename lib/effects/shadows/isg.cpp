@@ -1,6 +1,7 @@
 #include "effects/shadows/isg.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstring>
 #include <numbers>
@@ -168,79 +169,158 @@ std::vector<float> shadows_isg_reference(const ShadowInputs& in, const ShadowSet
         ++cheap_tiles;
         continue;  // L.softshadow = L.shadow
       }
+      // A foreground receiver at (x, y): P0, the light's distance and direction, the pixel size.
+      struct Recv {
+        V3 P0, wl;
+        double D, pix;
+      };
+      auto receiver = [&](int x, int y) {
+        Recv R;
+        R.P0 = c.position(size_t(y) * in.w + x);
+        R.D = len3(sub(s.light, R.P0));
+        R.wl = light_dir(R.P0);
+        R.pix = pixel_size(x, y, R.P0, R.wl);
+        return R;
+      };
+      auto rotation = [&](int x, int y) {
+        const double ang = s.rotate ? pixel_angle(uint32_t(x), uint32_t(y)) : 0.0;
+        return V2{std::cos(ang), std::sin(ang)};
+      };
+      // Eq. 5: R_p covers the widest penumbra the occluders around can cast (unclamped).
+      auto search_radius = [&](const Recv& R) { return d_loc > 0.0f ? c.penumbra(d_loc, R.D) / R.pix : 0.0; };
+      // Parameter search (eq. 4, 6, 7), the centre tap included: the mean occluder distance, or
+      // -1 where no occluder is within reach.
+      auto search = [&](int x, int y, const Recv& R, double Rp) {
+        const size_t i = size_t(y) * in.w + x;
+        const V2 p0 = {x + 0.5, y + 0.5}, cs_ = rotation(x, y);
+        const double ca = cs_[0], sa = cs_[1];
+        const double s0 = in.shadow[i], o0 = in.occluder[i];
+        double sw = 0.0, swd = 0.0;
+        if (s0 < 1.0 && o0 > 0.0) {
+          sw = 1.0 - s0;
+          swd = sw * o0;
+        }
+        for (int k = 0; k < s.grid_search * s.grid_search; ++k) {
+          const V2 cs = concentric(k, s.grid_search);
+          const V2 q = {p0[0] + Rp * (ca * cs[0] - sa * cs[1]), p0[1] + Rp * (sa * cs[0] + ca * cs[1])};
+          size_t t[4];
+          double bw[4];
+          c.taps(q, t, bw);
+          for (int j = 0; j < 4; ++j) {
+            if (bw[j] == 0.0 || !c.fg(t[j])) continue;
+            const double sj = in.shadow[t[j]], oj = in.occluder[t[j]];
+            if (!(sj < 1.0 && oj > 0.0)) continue;
+            const V3 Pt = c.position(t[j]);
+            double r = c.range_l(len3(sub(Pt, R.P0))) * (1.0 - sj) * bw[j];
+            const double l = c.across(sub(Pt, R.P0), R.wl);
+            if (s.search_reach) {
+              // PCSS's blocker test in image space: the occluder's own penumbra reaches p_0.
+              const double Rt = c.penumbra(oj, len3(sub(s.light, Pt)));
+              r *= std::clamp((SHADOWS_ISG_REACH * Rt + R.pix - l) / R.pix, 0.0, 1.0);
+            }
+            sw += r;
+            swd += r * oj;
+          }
+        }
+        return sw > 0.0 ? swd / sw : -1.0;
+      };
+      // Gather (eq. 4): uniform over the points within R_s of p_0 across the light direction
+      // (the penumbra's footprint on the receiver).
+      auto gather = [&](int x, int y, const Recv& R, double Rs, double Rg) {
+        const size_t i = size_t(y) * in.w + x;
+        const V2 p0 = {x + 0.5, y + 0.5}, cs_ = rotation(x, y);
+        const double ca = cs_[0], sa = cs_[1];
+        double sum = in.shadow[i], ws = 1.0;
+        for (int k = 0; k < s.grid_gather * s.grid_gather; ++k) {
+          const V2 cs = concentric(k, s.grid_gather);
+          const V2 q = {p0[0] + Rg * (ca * cs[0] - sa * cs[1]), p0[1] + Rg * (sa * cs[0] + ca * cs[1])};
+          size_t t[4];
+          double bw[4];
+          c.taps(q, t, bw);
+          for (int j = 0; j < 4; ++j) {
+            if (bw[j] == 0.0 || !c.fg(t[j])) continue;
+            const V3 dP = sub(c.position(t[j]), R.P0);
+            const double l = c.across(dP, R.wl);
+            const double r = c.range_l(len3(dP)) * std::clamp((Rs + 0.5 * R.pix - l) / R.pix, 0.0, 1.0) * bw[j];
+            sum += r * in.shadow[t[j]];
+            ws += r;
+          }
+        }
+        return sum / ws;
+      };
+      // The search and the wide gathers at half resolution (issue 18): per 2×2 quad of the tile,
+      // its first foreground pixel (the representative) searches, and gathers where its R_g is at
+      // least SHADOWS_ISG_REUSE_RADIUS.
+      constexpr int kQuads = kTile / 2;
+      struct Quad {
+        size_t rep = size_t(-1);
+        double d = -1.0, g = 0.0, Rg = -1.0;
+      };
+      std::array<Quad, kQuads * kQuads> quads{};
+      for (int qy = 0; qy < kQuads; ++qy)
+        for (int qx = 0; qx < kQuads; ++qx) {
+          Quad& Q = quads[size_t(qy) * kQuads + qx];
+          int rx = 0, ry = 0;
+          for (int k = 0; k < 4 && Q.rep == size_t(-1); ++k) {
+            const int px = x0 + 2 * qx + (k & 1), py = y0 + 2 * qy + (k >> 1);
+            if (px < in.w && py < in.h && c.fg(size_t(py) * in.w + px)) Q.rep = size_t(py) * in.w + px, rx = px, ry = py;
+          }
+          if (Q.rep == size_t(-1)) continue;
+          const Recv R = receiver(rx, ry);
+          Q.d = search(rx, ry, R, std::min(search_radius(R), s.max_radius));
+          ++st.searches;
+          if (Q.d < 0.0) continue;
+          const double Rs = c.penumbra(Q.d, R.D), Rg = std::min(Rs / R.pix, s.max_radius);
+          if (Rg >= SHADOWS_ISG_REUSE_RADIUS) Q.Rg = Rg, Q.g = gather(rx, ry, R, Rs, Rg), ++st.gathers;
+        }
+      auto same_surface = [&](size_t r, V3 P0) {
+        return c.range_l(len3(sub(c.position(r), P0))) >= SHADOWS_ISG_QUAD_SAME;
+      };
+      // A wide penumbra's gather, bilinear from the representatives' around the pixel in the
+      // tile's quad grid (on its surface, R_g within SHADOWS_ISG_REUSE_RATIO of its own); false
+      // where they hold under SHADOWS_ISG_REUSE_COVER of the bilinear weight.
+      auto reuse = [&](int x, int y, V3 P0, double Rg, double& m) {
+        const double fx = (x - x0 - 0.5) * 0.5, fy = (y - y0 - 0.5) * 0.5;
+        const double q0x = std::clamp(std::floor(fx), 0.0, double(kQuads - 2));
+        const double q0y = std::clamp(std::floor(fy), 0.0, double(kQuads - 2));
+        const double ax = std::clamp(fx - q0x, 0.0, 1.0), ay = std::clamp(fy - q0y, 0.0, 1.0);
+        double sum = 0.0, ws = 0.0;
+        for (int k = 0; k < 4; ++k) {
+          const Quad& Q = quads[size_t(int(q0y) + (k >> 1)) * kQuads + size_t(int(q0x) + (k & 1))];
+          const double w = ((k & 1) ? ax : 1.0 - ax) * ((k >> 1) ? ay : 1.0 - ay);
+          if (w <= 0.0 || Q.Rg < 0.0 || Q.Rg * SHADOWS_ISG_REUSE_RATIO < Rg || Rg * SHADOWS_ISG_REUSE_RATIO < Q.Rg) continue;
+          if (!same_surface(Q.rep, P0)) continue;
+          sum += w * Q.g;
+          ws += w;
+        }
+        m = ws > 0.0 ? sum / ws : 0.0;
+        return ws >= SHADOWS_ISG_REUSE_COVER;
+      };
       for (int y = y0; y < y1; ++y) {
         for (int x = x0; x < x1; ++x) {
           const size_t i = size_t(y) * in.w + x;
           if (!c.fg(i)) continue;  // background is left untouched
           ++st.full_pixels;
-          const V3 P0 = c.position(i);
-          const double D = len3(sub(s.light, P0));
-          const V3 wl = light_dir(P0);
-          const double pix = pixel_size(x, y, P0, wl);
-          // Eq. 5: R_p covers the widest penumbra the occluders around can cast.
-          const double Rp_raw = d_loc > 0.0f ? c.penumbra(d_loc, D) / pix : 0.0;
+          const Recv R = receiver(x, y);
+          const double Rp_raw = search_radius(R);
           bool clamped = Rp_raw > s.max_radius;
-          const double Rp = std::min(Rp_raw, s.max_radius);
-          const V2 p0 = {x + 0.5, y + 0.5};
-          const double ang =
-              s.rotate ? pixel_angle(uint32_t(x), uint32_t(y)) : 0.0;
-          const double ca = std::cos(ang), sa = std::sin(ang);
-
-          // Parameter search (eq. 4, 6, 7), the centre tap included.
-          const double s0 = in.shadow[i], o0 = in.occluder[i];
-          double sw = 0.0, swd = 0.0;
-          if (s0 < 1.0 && o0 > 0.0) {
-            sw = 1.0 - s0;
-            swd = sw * o0;
-          }
-          for (int k = 0; k < s.grid_search * s.grid_search; ++k) {
-            const V2 cs = concentric(k, s.grid_search);
-            const V2 q = {p0[0] + Rp * (ca * cs[0] - sa * cs[1]), p0[1] + Rp * (sa * cs[0] + ca * cs[1])};
-            size_t t[4];
-            double bw[4];
-            c.taps(q, t, bw);
-            for (int j = 0; j < 4; ++j) {
-              if (bw[j] == 0.0 || !c.fg(t[j])) continue;
-              const double sj = in.shadow[t[j]], oj = in.occluder[t[j]];
-              if (!(sj < 1.0 && oj > 0.0)) continue;
-              const V3 Pt = c.position(t[j]);
-              double r = c.range_l(len3(sub(Pt, P0))) * (1.0 - sj) * bw[j];
-              const double l = c.across(sub(Pt, P0), wl);
-              if (s.search_reach) {
-                // PCSS's blocker test in image space: the occluder's own penumbra reaches p_0.
-                const double Rt = c.penumbra(oj, len3(sub(s.light, Pt)));
-                r *= std::clamp((SHADOWS_ISG_REACH * Rt + pix - l) / pix, 0.0, 1.0);
-              }
-              sw += r;
-              swd += r * oj;
-            }
-          }
-          if (sw > 0.0) {
-            const double d = swd / sw;
+          // The search: the quad representative's, unless the pixel lies on another surface.
+          const Quad& Q = quads[size_t((y - y0) / 2) * kQuads + size_t((x - x0) / 2)];
+          double d = Q.d;
+          if (Q.rep != i && !same_surface(Q.rep, R.P0)) d = search(x, y, R, std::min(Rp_raw, s.max_radius)), ++st.searches;
+          if (d >= 0.0) {
             // Eq. 8-9.
-            const double Rs = c.penumbra(d, D);
-            const double Rg_raw = Rs / pix;
+            const double Rs = c.penumbra(d, R.D);
+            const double Rg_raw = Rs / R.pix;
             clamped = clamped || Rg_raw > s.max_radius;
             const double Rg = std::min(Rg_raw, s.max_radius);
-            // Gather (eq. 4): uniform over the points within R_s of p_0 across the light
-            // direction (the penumbra's footprint on the receiver).
-            double sum = s0, ws = 1.0;
-            for (int k = 0; k < s.grid_gather * s.grid_gather; ++k) {
-              const V2 cs = concentric(k, s.grid_gather);
-              const V2 q = {p0[0] + Rg * (ca * cs[0] - sa * cs[1]), p0[1] + Rg * (sa * cs[0] + ca * cs[1])};
-              size_t t[4];
-              double bw[4];
-              c.taps(q, t, bw);
-              for (int j = 0; j < 4; ++j) {
-                if (bw[j] == 0.0 || !c.fg(t[j])) continue;
-                const V3 dP = sub(c.position(t[j]), P0);
-                const double l = c.across(dP, wl);
-                const double r = c.range_l(len3(dP)) * std::clamp((Rs + 0.5 * pix - l) / pix, 0.0, 1.0) * bw[j];
-                sum += r * in.shadow[t[j]];
-                ws += r;
-              }
+            double m = 0.0;
+            if (Rg >= SHADOWS_ISG_REUSE_RADIUS && reuse(x, y, R.P0, Rg, m)) {
+              out[i] = float(m);
+            } else {
+              out[i] = float(gather(x, y, R, Rs, Rg));
+              ++st.gathers;
             }
-            out[i] = float(sum / ws);
           }
           if (clamped) ++st.clamped_pixels;
         }
@@ -351,6 +431,8 @@ ShadowIsgStats ShadowsIsgPass::stats(const gpu::Buffer& tiles, uint32_t w, uint3
   st.d_max = d;
   st.clamped_pixels = t[3 * nt + SHADOWS_ISG_STAT_CLAMPED];
   st.full_pixels = t[3 * nt + SHADOWS_ISG_STAT_FULL];
+  st.searches = t[3 * nt + SHADOWS_ISG_STAT_SEARCHES];
+  st.gathers = t[3 * nt + SHADOWS_ISG_STAT_GATHERS];
   return st;
 }
 
