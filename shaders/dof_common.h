@@ -9,11 +9,12 @@ const float DOF_PI = 3.14159265358979;
 // The sample lattice through the concentric map, evaluated once per workgroup rather than once
 // per tap (issue 18). Call at the top of main, before any invocation returns.
 shared vec2 dof_lattice[DOF_MAX_LATTICE];
-void dof_fill_lattice() {
-  for (uint k = gl_LocalInvocationIndex; k < pc.grid * pc.grid; k += gl_WorkGroupSize.x * gl_WorkGroupSize.y)
-    dof_lattice[k] = isg_concentric(k, pc.grid);
+void dof_fill_lattice_of(uint grid) {
+  for (uint k = gl_LocalInvocationIndex; k < grid * grid; k += gl_WorkGroupSize.x * gl_WorkGroupSize.y)
+    dof_lattice[k] = isg_concentric(k, grid);
   barrier();
 }
+void dof_fill_lattice() { dof_fill_lattice_of(pc.grid); }
 
 
 // Aperture "norm": |v| for a disk, |v| / rho(angle) for an n-gon of circumradius 1, so a point
@@ -65,8 +66,9 @@ vec4 dof_fetch_src(vec2 q) {
 }
 vec4 dof_src(uint i) { return src_buf[i]; }
 // The cheap path (tiles whose CoC range is under DOF_CHEAP_RANGE): a plain aperture average of
-// radius |c0|, faded to the sharp pixel below half a pixel.
-vec4 dof_cheap(uvec2 p, float c0, float rot_angle) {
+// radius |c0| over the workgroup's lattice of grid² samples, faded to the sharp pixel below half
+// a pixel.
+vec4 dof_cheap(uvec2 p, float c0, float rot_angle, uint grid) {
   vec2 p0 = vec2(p) + 0.5;
   vec4 c_0 = dof_src(p.y * pc.width + p.x);
   float r = abs(c0);
@@ -74,7 +76,7 @@ vec4 dof_cheap(uvec2 p, float c0, float rot_angle) {
   mat2 rot = mat2(cos(rot_angle), sin(rot_angle), -sin(rot_angle), cos(rot_angle));
   vec4 s = c_0;
   float ws = 1.0;
-  for (uint k = 0u; k < pc.grid * pc.grid; ++k) {
+  for (uint k = 0u; k < grid * grid; ++k) {
     vec2 d = r * (rot * dof_lattice[k]);
     float w = dof_cover(d, r, pc.blades, pc.rotation);
     s += w * dof_fetch_src(p0 + d);

@@ -26,7 +26,7 @@ void main() {
   float a = isg_pixel_angle(p + uvec2(pc.origin & 0xffffu, pc.origin >> 16));
   vec4 out_c;
   if (tiles[t + 3u] != 0.0) {
-    out_c = dof_cheap(p, c0, a);
+    out_c = dof_cheap(p, c0, a, pc.grid);
   } else {
     float R_g = radius[i];
     mat2 rot = mat2(cos(a), sin(a), -sin(a), cos(a));

@@ -9,6 +9,18 @@ ISG_IO_BEGIN
 #define DOF_TILE 16  // tile side for the classification (NRD's ClassifyTiles)
 // CoC range (max - min, pixels) below which a tile takes the cheap path.
 #define DOF_CHEAP_RANGE 0.5
+// dof.layered at half resolution where the blur is wide (issue 18): a pixel whose |CoC| is at
+// least DOF_REUSE_COC pixels takes its result bilinearly from its workgroup's 2×2 quads'
+// representatives whose CoC has its sign and lies within DOF_REUSE_TOL·|CoC| of its own, where
+// they hold at least DOF_REUSE_COVER of the bilinear weight.
+#define DOF_REUSE_COC 8.0
+#define DOF_REUSE_TOL 0.1
+#define DOF_REUSE_COVER 0.5
+// dof.layered's lattice over a tile of radius R: grid = clamp(ceil(DOF_LATTICE_DENSITY · R),
+// DOF_MIN_GRID, the dof.samples grid), so a small blur takes fewer samples (a 2 px CoC, 16
+// instead of 64) at about one sample per pixel of diameter.
+#define DOF_LATTICE_DENSITY 2.0
+#define DOF_MIN_GRID 3
 struct DofPush {
   uint width;
   uint height;

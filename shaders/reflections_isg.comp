@@ -206,7 +206,9 @@ shared uint tile_searches, tile_gathers;
 // factor REFL_REUSE_RATIO of its own. False where they hold under REFL_REUSE_COVER of the
 // bilinear weight: the pixel gathers for itself.
 bool reuse(Lobe L, float R_s, out vec3 m) {
-  vec2 f = (vec2(gl_LocalInvocationID.xy) - 0.5) * 0.5;  // the pixel centre in quad units
+  // The pixel in quad units: quad q stands at its top-left pixel 2q, where its representative
+  // usually is (always, for dof).
+  vec2 f = vec2(gl_LocalInvocationID.xy) * 0.5;
   vec2 q0 = clamp(floor(f), vec2(0.0), vec2(float(REFL_QUADS - 2u)));
   vec2 a = clamp(f - q0, vec2(0.0), vec2(1.0));
   vec3 s = vec3(0.0);

@@ -180,7 +180,9 @@ float gather(Recv R, uvec2 p, uint i, float Rs, float Rg) {
 // SHADOWS_ISG_REUSE_RATIO of its own. False where they hold under SHADOWS_ISG_REUSE_COVER of the
 // bilinear weight: the pixel gathers for itself.
 bool reuse(vec3 P0, float Rg, out float m) {
-  vec2 f = (vec2(gl_LocalInvocationID.xy) - 0.5) * 0.5;  // the pixel centre in quad units
+  // The pixel in quad units: quad q stands at its top-left pixel 2q, where its representative
+  // usually is (always, for dof).
+  vec2 f = vec2(gl_LocalInvocationID.xy) * 0.5;
   vec2 q0 = clamp(floor(f), vec2(0.0), vec2(float(QUADS - 2u)));
   vec2 a = clamp(f - q0, vec2(0.0), vec2(1.0));
   float s = 0.0, ws = 0.0;

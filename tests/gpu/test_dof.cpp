@@ -146,9 +146,10 @@ TEST(Dof, LensFromCamera) {
 
 TEST_F(GpuTest, DofMatchesReferencePerMethod) {
   const Scene2 sc = layered_scene(72, 40);
-  for (const std::string method : {"isg", "layered"}) {
+  // c_inf 12: far CoCs of 9-12 px, over DOF_REUSE_COC, so dof.layered's quads' results are reused.
+  for (const std::string method : {"isg", "layered", "layered-wide"}) {
     for (int blades : {0, 5}) {
-      auto s = settings(method, 6.0, 2.0, 6);
+      auto s = settings(method == "isg" ? "isg" : "layered", method == "layered-wide" ? 12.0 : 6.0, 2.0, 6);
       s.blades = blades;
       s.rotation_deg = 17;
       auto g = run_gpu(ctx(), sc, s);

@@ -243,53 +243,105 @@ std::vector<float> dof_layered_reference(const std::vector<float>& rgba,
   const size_t n = size_t(w) * h;
   const Field F{rgba, coc, w, h};
   const Aperture ap{s.blades, s.rotation_deg * kPi / 180.0};
-  const int N = s.grid * s.grid;
   const double K = ap.area_factor();
+  // The lattice for a tile of radius R (as the shader's dof_layered_grid; R is the tile's float).
+  auto grid_of = [&](double R) {
+    return std::clamp(int(std::ceil(float(DOF_LATTICE_DENSITY) * float(R))), std::min(int(DOF_MIN_GRID), s.grid), s.grid);
+  };
+  // The layered gather at (x, y) with CoC c0 and the tile's radius R.
+  auto layered = [&](int x, int y, double c0, double R) {
+    const int g = grid_of(R), N = g * g;
+    const size_t i = size_t(y) * w + x;
+    const double a = pixel_angle(uint32_t(x), uint32_t(y));
+    const double a_s = kPi * R * R / N;  // image area one sample stands for
+    const double m0 = smoothstep(0.5, 1.5, -c0);  // near-field membership
+    const double w0 = 1.0 / std::max(K * c0 * c0, 1.0);
+    const V4 c_0 = F.at(i);
+    V4 Sn{}, Sf{};
+    for (size_t c = 0; c < 4; ++c) { Sn[c] = m0 * w0 * c_0[c]; Sf[c] = (1 - m0) * w0 * c_0[c]; }
+    double Wn = m0 * w0, Wf = (1 - m0) * w0;
+    for (int k = 0; k < N; ++k) {
+      V2 u = rotate(a, concentric(k, g)), d{R * u[0], R * u[1]};
+      const V2 q{x + 0.5 + d[0], y + 0.5 + d[1]};
+      const double ci = F.fetch_coc(q);
+      const V2 v = ci >= 0 ? V2{-d[0], -d[1]} : d;
+      const double mi = smoothstep(0.5, 1.5, -ci);
+      // Scatter as gather: the sample's energy spreads over its aperture's area.
+      const double dens = a_s / std::max(K * ci * ci, a_s);
+      // Far-field occlusion (eq. 17 mirrored): behind p0 it spreads no further than p0's CoC.
+      const double behind = smoothstep(0, 1, ci - c0) * (1 - m0);
+      double r_far = std::abs(ci) * (1 - behind) + std::min(std::abs(ci), std::max(c0, 0.0)) * behind;
+      // Seen from inside a blurred near object's edge, the lens looks past it at the far
+      // field within p0's own CoC (partial occlusion): far samples that near reach p0.
+      r_far = std::max(r_far, m0 * std::max(-c0, 0.0));
+      // In-focus samples (CoC under half a pixel) are the centre pixel's, not the ring's.
+      const double wf = (1 - mi) * ap.cover(v, r_far) * dens * smoothstep(0.25, 0.75, r_far);
+      const double wn = mi * ap.cover(v, std::abs(ci)) * dens;
+      if (wf + wn > 0) {
+        const V4 ci4 = F.fetch_src(q);
+        for (size_t c = 0; c < 4; ++c) { Sf[c] += wf * ci4[c]; Sn[c] += wn * ci4[c]; }
+        Wf += wf;
+        Wn += wn;
+      }
+    }
+    double alpha = std::clamp(Wn, 0.0, 1.0);  // the near field's coverage
+    alpha += (1 - alpha) * (1 - smoothstep(0, 0.05, Wf / (Wf + Wn)));
+    V4 o;
+    for (size_t c = 0; c < 4; ++c)
+      o[c] = alpha * Sn[c] / std::max(Wn, 1e-20) + (1 - alpha) * Sf[c] / std::max(Wf, 1e-20);
+    return o;
+  };
+  // Wide CoCs at half resolution (issue 18): each 2×2 quad's top-left pixel gathers where
+  // |CoC| >= DOF_REUSE_COC, and a pixel with such a CoC takes its result bilinearly from the
+  // representatives around it in its DOF_LOCAL² workgroup's quad grid whose CoC has its sign and
+  // lies within DOF_REUSE_TOL·|CoC| of its own (else it gathers itself).
+  constexpr int kQuads = DOF_LOCAL / 2;
+  struct Quad {
+    bool done = false;
+    double coc = 0.0;  // 0: no gather of its own
+    V4 out{};
+  };
+  std::vector<Quad> quads(size_t((w + 1) / 2) * size_t((h + 1) / 2));
+  auto quad = [&](int qx, int qy, double R) -> const Quad& {
+    Quad& Q = quads[size_t(qy) * size_t((w + 1) / 2) + size_t(qx)];
+    if (Q.done) return Q;
+    Q.done = true;
+    const double cr = coc[size_t(2 * qy) * w + 2 * qx];
+    if (std::abs(cr) >= DOF_REUSE_COC) Q.coc = cr, Q.out = layered(2 * qx, 2 * qy, cr, R);
+    return Q;
+  };
+  auto reuse = [&](int x, int y, double c0, double R, V4& m) {
+    const int lx = x % int(DOF_LOCAL), ly = y % int(DOF_LOCAL);
+    const double fx = lx * 0.5, fy = ly * 0.5;  // quad q at its top-left pixel 2q
+    const double q0x = std::clamp(std::floor(fx), 0.0, double(kQuads - 2));
+    const double q0y = std::clamp(std::floor(fy), 0.0, double(kQuads - 2));
+    const double ax = std::clamp(fx - q0x, 0.0, 1.0), ay = std::clamp(fy - q0y, 0.0, 1.0);
+    V4 sum{};
+    double ws = 0.0;
+    for (int k = 0; k < 4; ++k) {
+      const int qx = (x - lx) / 2 + int(q0x) + (k & 1), qy = (y - ly) / 2 + int(q0y) + (k >> 1);
+      const double wgt = ((k & 1) ? ax : 1.0 - ax) * ((k >> 1) ? ay : 1.0 - ay);
+      if (wgt <= 0.0 || 2 * qx >= w || 2 * qy >= h) continue;
+      const Quad& Q = quad(qx, qy, R);
+      if (Q.coc * c0 <= 0.0 || std::abs(Q.coc - c0) > DOF_REUSE_TOL * std::abs(c0)) continue;
+      for (size_t c = 0; c < 4; ++c) sum[c] += wgt * Q.out[c];
+      ws += wgt;
+    }
+    if (ws > 0.0)
+      for (size_t c = 0; c < 4; ++c) m[c] = sum[c] / ws;
+    return ws >= DOF_REUSE_COVER;
+  };
   std::vector<float> out(4 * n);
   for (int y = 0; y < h; ++y) {
     for (int x = 0; x < w; ++x) {
       const size_t i = size_t(y) * w + x;
-      const double c0 = coc[i], a = pixel_angle(uint32_t(x), uint32_t(y));
+      const double c0 = coc[i];
       const float* t = tile_of(tiles, w, x, y);
-      if (t[3] != 0.0f) { store(out, n, i, cheap(F, ap, s.grid, x, y, c0)); continue; }
       const double R = std::max(double(t[2]), 0.5);
-      const double a_s = kPi * R * R / N;  // image area one sample stands for
-      const double m0 = smoothstep(0.5, 1.5, -c0);  // near-field membership
-      const double w0 = 1.0 / std::max(K * c0 * c0, 1.0);
-      const V4 c_0 = F.at(i);
-      V4 Sn{}, Sf{};
-      for (size_t c = 0; c < 4; ++c) { Sn[c] = m0 * w0 * c_0[c]; Sf[c] = (1 - m0) * w0 * c_0[c]; }
-      double Wn = m0 * w0, Wf = (1 - m0) * w0;
-      for (int k = 0; k < N; ++k) {
-        V2 u = rotate(a, concentric(k, s.grid)), d{R * u[0], R * u[1]};
-        const V2 q{x + 0.5 + d[0], y + 0.5 + d[1]};
-        const double ci = F.fetch_coc(q);
-        const V2 v = ci >= 0 ? V2{-d[0], -d[1]} : d;
-        const double mi = smoothstep(0.5, 1.5, -ci);
-        // Scatter as gather: the sample's energy spreads over its aperture's area.
-        const double dens = a_s / std::max(K * ci * ci, a_s);
-        // Far-field occlusion (eq. 17 mirrored): behind p0 it spreads no further than p0's CoC.
-        const double behind = smoothstep(0, 1, ci - c0) * (1 - m0);
-        double r_far = std::abs(ci) * (1 - behind) + std::min(std::abs(ci), std::max(c0, 0.0)) * behind;
-        // Seen from inside a blurred near object's edge, the lens looks past it at the far
-        // field within p0's own CoC (partial occlusion): far samples that near reach p0.
-        r_far = std::max(r_far, m0 * std::max(-c0, 0.0));
-        // In-focus samples (CoC under half a pixel) are the centre pixel's, not the ring's.
-        const double wf = (1 - mi) * ap.cover(v, r_far) * dens * smoothstep(0.25, 0.75, r_far);
-        const double wn = mi * ap.cover(v, std::abs(ci)) * dens;
-        if (wf + wn > 0) {
-          const V4 ci4 = F.fetch_src(q);
-          for (size_t c = 0; c < 4; ++c) { Sf[c] += wf * ci4[c]; Sn[c] += wn * ci4[c]; }
-          Wf += wf;
-          Wn += wn;
-        }
-      }
-      double alpha = std::clamp(Wn, 0.0, 1.0);  // the near field's coverage
-      alpha += (1 - alpha) * (1 - smoothstep(0, 0.05, Wf / (Wf + Wn)));
-      V4 o;
-      for (size_t c = 0; c < 4; ++c)
-        o[c] = alpha * Sn[c] / std::max(Wn, 1e-20) + (1 - alpha) * Sf[c] / std::max(Wf, 1e-20);
-      store(out, n, i, o);
+      if (t[3] != 0.0f) { store(out, n, i, cheap(F, ap, grid_of(R), x, y, c0)); continue; }
+      V4 m{};
+      if (std::abs(c0) >= DOF_REUSE_COC && reuse(x, y, c0, R, m)) store(out, n, i, m);
+      else store(out, n, i, layered(x, y, c0, R));
     }
   }
   return out;

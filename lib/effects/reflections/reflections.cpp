@@ -247,7 +247,7 @@ struct Ctx {
   // own); false where they hold under REFL_REUSE_COVER of the bilinear weight.
   bool reuse(int x, int y, const Lobe& L, double R_s, std::vector<Quad>& quads, V3& m) const {
     const int lx = x % REFL_TILE, ly = y % REFL_TILE, quads_per_tile = REFL_TILE / 2;
-    const double fx = (lx - 0.5) * 0.5, fy = (ly - 0.5) * 0.5;
+    const double fx = lx * 0.5, fy = ly * 0.5;  // quad q at its top-left pixel 2q
     const double q0x = std::clamp(std::floor(fx), 0.0, double(quads_per_tile - 2));
     const double q0y = std::clamp(std::floor(fy), 0.0, double(quads_per_tile - 2));
     const double ax = std::clamp(fx - q0x, 0.0, 1.0), ay = std::clamp(fy - q0y, 0.0, 1.0);

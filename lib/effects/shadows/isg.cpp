@@ -280,7 +280,7 @@ std::vector<float> shadows_isg_reference(const ShadowInputs& in, const ShadowSet
       // tile's quad grid (on its surface, R_g within SHADOWS_ISG_REUSE_RATIO of its own); false
       // where they hold under SHADOWS_ISG_REUSE_COVER of the bilinear weight.
       auto reuse = [&](int x, int y, V3 P0, double Rg, double& m) {
-        const double fx = (x - x0 - 0.5) * 0.5, fy = (y - y0 - 0.5) * 0.5;
+        const double fx = (x - x0) * 0.5, fy = (y - y0) * 0.5;  // quad q at its top-left pixel 2q
         const double q0x = std::clamp(std::floor(fx), 0.0, double(kQuads - 2));
         const double q0y = std::clamp(std::floor(fy), 0.0, double(kQuads - 2));
         const double ax = std::clamp(fx - q0x, 0.0, 1.0), ay = std::clamp(fy - q0y, 0.0, 1.0);
