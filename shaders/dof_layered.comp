@@ -73,16 +73,14 @@ vec4 layered(uvec2 p, float c0, float a, float R, uint grid) {
 shared vec4 q_out[QUADS * QUADS];
 shared float q_coc[QUADS * QUADS];  // the representative's CoC; 0: none (no gather of its own)
 bool reuse(float c0, out vec4 m) {
-  // The pixel in quad units: quad q stands at its top-left pixel 2q, where its representative
-  // usually is (always, for dof).
-  vec2 f = vec2(gl_LocalInvocationID.xy) * 0.5;
-  vec2 q0 = clamp(floor(f), vec2(0.0), vec2(float(QUADS - 2u)));
-  vec2 a = clamp(f - q0, vec2(0.0), vec2(1.0));
+  uvec2 q0;  // the lower corner of the quads around the pixel (at their top-left pixels)
+  vec2 a;
+  isg_quad_bilinear(gl_LocalInvocationID.xy, QUADS, q0, a);
   vec4 s = vec4(0.0);
   float ws = 0.0;
   for (uint k = 0u; k < 4u; ++k) {
-    uint q = (uint(q0.y) + (k >> 1u)) * QUADS + uint(q0.x) + (k & 1u);
-    float w = ((k & 1u) != 0u ? a.x : 1.0 - a.x) * ((k >> 1u) != 0u ? a.y : 1.0 - a.y);
+    uint q = (q0.y + (k >> 1u)) * QUADS + q0.x + (k & 1u);
+    float w = isg_quad_weight(a, k);
     float cq = q_coc[q];
     if (w <= 0.0 || cq * c0 <= 0.0 || abs(cq - c0) > DOF_REUSE_TOL * abs(c0)) continue;
     s += w * q_out[q];

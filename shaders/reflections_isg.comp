@@ -206,16 +206,14 @@ shared uint tile_searches, tile_gathers;
 // factor REFL_REUSE_RATIO of its own. False where they hold under REFL_REUSE_COVER of the
 // bilinear weight: the pixel gathers for itself.
 bool reuse(Lobe L, float R_s, out vec3 m) {
-  // The pixel in quad units: quad q stands at its top-left pixel 2q, where its representative
-  // usually is (always, for dof).
-  vec2 f = vec2(gl_LocalInvocationID.xy) * 0.5;
-  vec2 q0 = clamp(floor(f), vec2(0.0), vec2(float(REFL_QUADS - 2u)));
-  vec2 a = clamp(f - q0, vec2(0.0), vec2(1.0));
+  uvec2 q0;  // the lower corner of the quads around the pixel (at their top-left pixels)
+  vec2 a;
+  isg_quad_bilinear(gl_LocalInvocationID.xy, REFL_QUADS, q0, a);
   vec3 s = vec3(0.0);
   float ws = 0.0;
   for (uint k = 0u; k < 4u; ++k) {
-    uint q = (uint(q0.y) + (k >> 1u)) * REFL_QUADS + uint(q0.x) + (k & 1u);
-    float w = ((k & 1u) != 0u ? a.x : 1.0 - a.x) * ((k >> 1u) != 0u ? a.y : 1.0 - a.y);
+    uint q = (q0.y + (k >> 1u)) * REFL_QUADS + q0.x + (k & 1u);
+    float w = isg_quad_weight(a, k);
     vec4 c = quad_mean[q];
     if (w <= 0.0 || c.w < 0.0 || c.w * REFL_REUSE_RATIO < R_s || R_s * REFL_REUSE_RATIO < c.w) continue;
     if (range_fn(pack_geo[quad_rep[q]], L.P0, L.N0) < REFL_QUAD_SAME) continue;

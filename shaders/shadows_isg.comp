@@ -180,15 +180,13 @@ float gather(Recv R, uvec2 p, uint i, float Rs, float Rg) {
 // SHADOWS_ISG_REUSE_RATIO of its own. False where they hold under SHADOWS_ISG_REUSE_COVER of the
 // bilinear weight: the pixel gathers for itself.
 bool reuse(vec3 P0, float Rg, out float m) {
-  // The pixel in quad units: quad q stands at its top-left pixel 2q, where its representative
-  // usually is (always, for dof).
-  vec2 f = vec2(gl_LocalInvocationID.xy) * 0.5;
-  vec2 q0 = clamp(floor(f), vec2(0.0), vec2(float(QUADS - 2u)));
-  vec2 a = clamp(f - q0, vec2(0.0), vec2(1.0));
+  uvec2 q0;  // the lower corner of the quads around the pixel (at their top-left pixels)
+  vec2 a;
+  isg_quad_bilinear(gl_LocalInvocationID.xy, QUADS, q0, a);
   float s = 0.0, ws = 0.0;
   for (uint k = 0u; k < 4u; ++k) {
-    uint q = (uint(q0.y) + (k >> 1u)) * QUADS + uint(q0.x) + (k & 1u);
-    float w = ((k & 1u) != 0u ? a.x : 1.0 - a.x) * ((k >> 1u) != 0u ? a.y : 1.0 - a.y);
+    uint q = (q0.y + (k >> 1u)) * QUADS + q0.x + (k & 1u);
+    float w = isg_quad_weight(a, k);
     vec2 g = q_g[q];
     if (w <= 0.0 || g.y < 0.0 || g.y * SHADOWS_ISG_REUSE_RATIO < Rg || Rg * SHADOWS_ISG_REUSE_RATIO < g.y) continue;
     if (range_l(length(pack[q_rep[q]].xyz - P0)) < SHADOWS_ISG_QUAD_SAME) continue;

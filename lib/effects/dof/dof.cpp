@@ -312,15 +312,12 @@ std::vector<float> dof_layered_reference(const std::vector<float>& rgba,
   };
   auto reuse = [&](int x, int y, double c0, double R, V4& m) {
     const int lx = x % int(DOF_LOCAL), ly = y % int(DOF_LOCAL);
-    const double fx = lx * 0.5, fy = ly * 0.5;  // quad q at its top-left pixel 2q
-    const double q0x = std::clamp(std::floor(fx), 0.0, double(kQuads - 2));
-    const double q0y = std::clamp(std::floor(fy), 0.0, double(kQuads - 2));
-    const double ax = std::clamp(fx - q0x, 0.0, 1.0), ay = std::clamp(fy - q0y, 0.0, 1.0);
+    const QuadBilinear b = quad_bilinear(lx, ly, kQuads);
     V4 sum{};
     double ws = 0.0;
     for (int k = 0; k < 4; ++k) {
-      const int qx = (x - lx) / 2 + int(q0x) + (k & 1), qy = (y - ly) / 2 + int(q0y) + (k >> 1);
-      const double wgt = ((k & 1) ? ax : 1.0 - ax) * ((k >> 1) ? ay : 1.0 - ay);
+      const int qx = (x - lx) / 2 + b.qx + (k & 1), qy = (y - ly) / 2 + b.qy + (k >> 1);
+      const double wgt = b.weight(k);
       if (wgt <= 0.0 || 2 * qx >= w || 2 * qy >= h) continue;
       const Quad& Q = quad(qx, qy, R);
       if (Q.coc * c0 <= 0.0 || std::abs(Q.coc - c0) > DOF_REUSE_TOL * std::abs(c0)) continue;

@@ -246,16 +246,13 @@ struct Ctx {
   // tile's quad grid (those on its surface whose footprint is within REFL_REUSE_RATIO of its
   // own); false where they hold under REFL_REUSE_COVER of the bilinear weight.
   bool reuse(int x, int y, const Lobe& L, double R_s, std::vector<Quad>& quads, V3& m) const {
-    const int lx = x % REFL_TILE, ly = y % REFL_TILE, quads_per_tile = REFL_TILE / 2;
-    const double fx = lx * 0.5, fy = ly * 0.5;  // quad q at its top-left pixel 2q
-    const double q0x = std::clamp(std::floor(fx), 0.0, double(quads_per_tile - 2));
-    const double q0y = std::clamp(std::floor(fy), 0.0, double(quads_per_tile - 2));
-    const double ax = std::clamp(fx - q0x, 0.0, 1.0), ay = std::clamp(fy - q0y, 0.0, 1.0);
+    const int lx = x % REFL_TILE, ly = y % REFL_TILE;
+    const QuadBilinear b = quad_bilinear(lx, ly, REFL_TILE / 2);
     V3 sum{};
     double ws = 0.0;
     for (int k = 0; k < 4; ++k) {
-      const int qx = (x - lx) / 2 + int(q0x) + (k & 1), qy = (y - ly) / 2 + int(q0y) + (k >> 1);
-      const double w = ((k & 1) ? ax : 1.0 - ax) * ((k >> 1) ? ay : 1.0 - ay);
+      const int qx = (x - lx) / 2 + b.qx + (k & 1), qy = (y - ly) / 2 + b.qy + (k >> 1);
+      const double w = b.weight(k);
       if (w <= 0.0 || 2 * qx >= in.w || 2 * qy >= in.h) continue;
       const Quad& Q = quad(qx, qy, quads);
       if (Q.R_s < 0.0 || Q.R_s * REFL_REUSE_RATIO < R_s || R_s * REFL_REUSE_RATIO < Q.R_s) continue;

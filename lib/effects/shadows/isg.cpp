@@ -280,14 +280,11 @@ std::vector<float> shadows_isg_reference(const ShadowInputs& in, const ShadowSet
       // tile's quad grid (on its surface, R_g within SHADOWS_ISG_REUSE_RATIO of its own); false
       // where they hold under SHADOWS_ISG_REUSE_COVER of the bilinear weight.
       auto reuse = [&](int x, int y, V3 P0, double Rg, double& m) {
-        const double fx = (x - x0) * 0.5, fy = (y - y0) * 0.5;  // quad q at its top-left pixel 2q
-        const double q0x = std::clamp(std::floor(fx), 0.0, double(kQuads - 2));
-        const double q0y = std::clamp(std::floor(fy), 0.0, double(kQuads - 2));
-        const double ax = std::clamp(fx - q0x, 0.0, 1.0), ay = std::clamp(fy - q0y, 0.0, 1.0);
+        const QuadBilinear b = quad_bilinear(x - x0, y - y0, kQuads);
         double sum = 0.0, ws = 0.0;
         for (int k = 0; k < 4; ++k) {
-          const Quad& Q = quads[size_t(int(q0y) + (k >> 1)) * kQuads + size_t(int(q0x) + (k & 1))];
-          const double w = ((k & 1) ? ax : 1.0 - ax) * ((k >> 1) ? ay : 1.0 - ay);
+          const Quad& Q = quads[size_t(b.qy + (k >> 1)) * kQuads + size_t(b.qx + (k & 1))];
+          const double w = b.weight(k);
           if (w <= 0.0 || Q.Rg < 0.0 || Q.Rg * SHADOWS_ISG_REUSE_RATIO < Rg || Rg * SHADOWS_ISG_REUSE_RATIO < Q.Rg) continue;
           if (!same_surface(Q.rep, P0)) continue;
           sum += w * Q.g;
