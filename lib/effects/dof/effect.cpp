@@ -23,7 +23,8 @@ class Dof final : public Effect {
        "gathered apart, the near field composited over the far by its coverage)"),
       params::def(dof_keys::samples, "64", 1, 1024,
        "samples per pixel per gather pass, rounded to a square grid through the concentric disk "
-       "map (rotated per pixel)"),
+       "map (rotated per pixel); layered takes at most this many: ceil(2 R)^2, at least 9, in a "
+       "tile whose largest CoC is R pixels"),
       params::def(dof_keys::focus_distance, "0", 0, 1e9,
        "focus distance z_f of eq. 15 (0: the camera's focus_distance)", "scene units"),
       params::def(dof_keys::fstop, "0", 0, 1024, "f-number (0: the camera's fstop)"),
