@@ -394,7 +394,8 @@ void DofPass::record_tiles(gpu::Sequence& seq, const gpu::Buffer& coc, const gpu
                            uint32_t w, uint32_t h) {
   if (!k_->tiles) k_->tiles = make_kernel(ctx_, "dof.tiles", isg_spv_dof_tiles, 2);
   seq.dispatch(*k_->tiles, {gpu::Binding::of(coc), gpu::Binding::of(tiles)},
-               push_of(s_, w, h, false), dof_tiles_x(w), dof_tiles_y(h), "dof.tiles");
+               push_of(s_, w, h, false), dof_tiles_x(w) * DOF_LOCAL, dof_tiles_y(h) * DOF_LOCAL,
+               "dof.tiles");  // one workgroup per tile
 }
 
 void DofPass::record_search(gpu::Sequence& seq, const gpu::Buffer& coc, const gpu::Buffer& tiles,
