@@ -65,5 +65,8 @@ inline QuadBilinear grid_bilinear(int lx, int ly, int step, int points) {
   return {int(q0x), int(q0y), std::clamp(fx - q0x, 0.0, 1.0), std::clamp(fy - q0y, 0.0, 1.0)};
 }
 inline QuadBilinear quad_bilinear(int lx, int ly, int quads) { return grid_bilinear(lx, ly, 2, quads); }
+// The side of a 4x4 block representative's gather lattice: ceil(scale x the gather grid's)
+// (REFL_BLOCK_GRID_SCALE, SHADOWS_ISG_BLOCK_GRID_SCALE).
+inline int block_grid(int grid_gather, double scale) { return int(std::ceil(scale * grid_gather - 1e-9)); }
 
 }  // namespace isg::effects

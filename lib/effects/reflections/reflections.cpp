@@ -244,7 +244,7 @@ struct Ctx {
     // A 4x4 block's quad (even coordinates) past REFL_BLOCK_RADIUS gathers over the denser
     // block lattice.
     const bool block = qx % 2 == 0 && qy % 2 == 0 && F.R_s >= REFL_BLOCK_RADIUS;
-    const int grid = block ? refl_block_grid(s.grid_gather) : s.grid_gather;
+    const int grid = block ? block_grid(s.grid_gather, REFL_BLOCK_GRID_SCALE) : s.grid_gather;
     if (F.R_s >= REFL_REUSE_RADIUS) Q.R_s = F.R_s, Q.mean = gather_mean(L, Q.rep, F, grid);
     return Q;
   }
@@ -287,10 +287,6 @@ struct Ctx {
 };
 }  // namespace
 
-int refl_block_grid(int grid_gather) {
-  return int(std::ceil(REFL_BLOCK_GRID_SCALE * grid_gather - 1e-9));
-}
-
 double ggx_cone_tan(double alpha, double energy) {
   return alpha * std::sqrt(energy / (1.0 - energy));
 }
@@ -329,7 +325,7 @@ namespace {
 // evaluated once on the host rather than per tap.
 std::vector<float> sample_table(int grid_search, int grid_gather) {
   std::vector<float> t;
-  for (int grid : {grid_search, grid_gather, refl_block_grid(grid_gather)}) {
+  for (int grid : {grid_search, grid_gather, block_grid(grid_gather, REFL_BLOCK_GRID_SCALE)}) {
     for (int k = 0; k < grid * grid; ++k) {
       const auto c = concentric(k, grid);
       const double r2 = c[0] * c[0] + c[1] * c[1];
@@ -361,7 +357,7 @@ shaders::ReflIsgPush ReflectionsPass::push(uint32_t w, uint32_t h, bool has_posi
   pc.width = w;
   pc.height = h;
   pc.grids = uint32_t(s_.grid_search) | (uint32_t(s_.grid_gather) << 8) |
-             (uint32_t(refl_block_grid(s_.grid_gather)) << 16);
+             (uint32_t(block_grid(s_.grid_gather, REFL_BLOCK_GRID_SCALE)) << 16);
   pc.origin = s_.window.packed_origin();
   pc.cx = float(s_.window.cx(int(w)));
   pc.cy = float(s_.window.cy(int(h)));

@@ -37,9 +37,6 @@ struct ReflSettings {
 ReflSettings refl_settings(const io::Camera& cam, double scene_radius, const params::Params& p,
                            int height);
 
-// The side of a 4x4 block's gather lattice (REFL_BLOCK_GRID_SCALE x the gather grid's).
-int refl_block_grid(int grid_gather);
-
 // tan θ_h of the GGX cone holding the fraction E of the NDF's projected area: the CDF in θ_h
 // is P(θ_h ≤ t) = tan²t / (α² + tan²t), so tan θ_h = α·sqrt(E / (1 − E)). θ_max = 2·θ_h.
 double ggx_cone_tan(double alpha, double energy);
