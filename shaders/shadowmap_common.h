@@ -38,18 +38,27 @@ bool sm_inside(vec3 q) {
 // Receiver plane: the gradient of 1/z over (u, v), from the screen neighbours on the same
 // surface (the one of each pair nearer in light depth); zero where there is none. z: the
 // smallest light-depth step to a neighbour, the receiver's own depth uncertainty (large where
-// P blends two surfaces at a silhouette), added to the bias.
+// P blends two surfaces at a silhouette), added to the bias. w: the slope bound (texel
+// footprints per texel of lateral offset): SHADOWMAP_TRUSTED_SLOPE where the neighbours left
+// out of the fit lie on the plane (a planar receiver, however grazing the light), else
+// shadows.slope_max.
 // back: the plane through the neighbours faces away from the light (seen from the camera's
 // side), where the contract keeps L.shadow (1 where key.direct vanishes).
-vec3 sm_receiver_plane(uvec2 px, vec3 q, vec3 P, out bool back) {
+vec4 sm_receiver_plane(uvec2 px, vec3 q, vec3 P, out bool back) {
   vec3 d[2];
   vec3 t[2];
+  vec3 other[2];  // the neighbour of each pair left out of the fit
+  bool has_other[2];
   back = false;
   int found = 0;
   float spread = 1e30;
   for (int axis = 0; axis < 2; ++axis) {
     float best = 1e30;
     vec3 bd = vec3(0.0), bt = vec3(0.0);
+    has_other[axis] = false;
+    other[axis] = vec3(0.0);
+    vec3 cand[2];
+    int nc = 0;
     for (int s = -1; s <= 1; s += 2) {
       ivec2 nb = ivec2(px) + (axis == 0 ? ivec2(s, 0) : ivec2(0, s));
       if (nb.x < 0 || nb.y < 0 || nb.x >= int(p.width) || nb.y >= int(p.height)) continue;
@@ -59,31 +68,47 @@ vec3 sm_receiver_plane(uvec2 px, vec3 q, vec3 P, out bool back) {
       vec3 qn = sm_project(Pn);
       if (qn.z <= 0.0) continue;
       float dz = abs(qn.z - q.z);
-      if (dz < best) { best = dz; bd = vec3(qn.xy - q.xy, 1.0 / qn.z - 1.0 / q.z); bt = Pn - P; }
+      vec3 dn = vec3(qn.xy - q.xy, 1.0 / qn.z - 1.0 / q.z);
+      if (dz < best) {
+        if (best < 1e30) cand[nc++] = bd;
+        best = dz; bd = dn; bt = Pn - P;
+      } else {
+        cand[nc++] = dn;
+      }
     }
+    if (nc > 0) { other[axis] = cand[0]; has_other[axis] = true; }
     if (best < 1e30) { t[found] = bt; d[found++] = bd; }
     spread = min(spread, best);
   }
   spread = (spread >= 1e30 ? 0.0 : spread) + p.depth_eps;
-  if (found < 2) return vec3(0.0, 0.0, spread);
+  if (found < 2) return vec4(0.0, 0.0, spread, p.slope_max);
   if (p.has_camera != 0u) {
     vec3 nrm = cross(t[0], t[1]);
     if (dot(nrm, vec3(p.eye_rel_x, p.eye_rel_y, p.eye_rel_z) - P) < 0.0) nrm = -nrm;
     back = dot(nrm, -P) < 0.0;
   }
   float det = d[0].x * d[1].y - d[0].y * d[1].x;
-  if (abs(det) < 1e-8) return vec3(0.0, 0.0, spread);
-  return vec3(vec2(d[0].z * d[1].y - d[1].z * d[0].y, d[0].x * d[1].z - d[1].x * d[0].z) / det,
-              spread);
+  if (abs(det) < 1e-8) return vec4(0.0, 0.0, spread, p.slope_max);
+  vec2 g = vec2(d[0].z * d[1].y - d[1].z * d[0].y, d[0].x * d[1].z - d[1].x * d[0].z) / det;
+  // Planarity: each left-out neighbour's 1/z against the plane's, relative to its step.
+  bool planar = false;
+  for (int axis = 0; axis < 2; ++axis) {
+    if (!has_other[axis]) continue;
+    vec3 o = other[axis];
+    float pred = dot(g, o.xy);
+    planar = abs(o.z - pred) <= SHADOWMAP_PLANE_TOL * max(abs(o.z), abs(pred));
+    if (!planar) break;
+  }
+  return vec4(g, spread, planar ? max(p.slope_max, SHADOWMAP_TRUSTED_SLOPE) : p.slope_max);
 }
 
-// The receiver's depth at texel centre c (receiver plane, slope clamped) minus the bias:
+// The receiver's depth at texel centre c (receiver plane, slope clamped to g.w) minus the bias:
 // map depths below it are blockers.
-float sm_threshold(vec3 q, vec3 g, vec2 c, float texel_world) {
+float sm_threshold(vec3 q, vec4 g, vec2 c, float texel_world) {
   vec2 o = c - q.xy;
   float iz = 1.0 / q.z + dot(g.xy, o);
   float zc = iz > 0.0 ? 1.0 / iz : 1e30;
-  float lim = p.slope_max * texel_world * length(o);
+  float lim = g.w * texel_world * length(o);
   zc = clamp(zc, q.z - lim, q.z + lim);
   return zc - p.bias * texel_world - p.spread_bias * g.z;
 }

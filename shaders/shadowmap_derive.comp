@@ -27,7 +27,7 @@ void main() {
     vec3 P = sm_rel(i);  // P − light
     vec3 q = sm_project(P);
     bool back = false;
-    vec3 g = vec3(0.0);
+    vec4 g = vec4(0.0, 0.0, 0.0, p.slope_max);
     if (sm_inside(q)) g = sm_receiver_plane(px, q, P, back);
     if (sm_inside(q) && !back) {
       float texel_world = 2.0 * q.z * p.tan_y / float(p.map_h);

@@ -26,7 +26,7 @@ void main() {
   if (!sm_inside(q)) { soft[i] = hard[i]; return; }
   atomicAdd(stats[SHADOWMAP_STAT_PIXELS], 1u);
   bool back;
-  vec3 g = sm_receiver_plane(px, q, P, back);
+  vec4 g = sm_receiver_plane(px, q, P, back);
   if (back) { atomicAdd(stats[SHADOWMAP_STAT_SKIPPED], 1u); soft[i] = hard[i]; return; }
   float texel_world = 2.0 * q.z * p.tan_y / float(p.map_h);
   float k = p.light_radius * float(p.map_h) / (2.0 * p.tan_y);  // texels per unit of 1/d − 1/z

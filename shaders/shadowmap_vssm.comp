@@ -110,7 +110,7 @@ bool empty(vec2 lo, vec2 hi) { return hi.x - lo.x < 1e-3 || hi.y - lo.y < 1e-3; 
 
 // PCF over a g x g grid in [lo, hi) (each tap the texel under a cell centre): lit fraction;
 // blockers' count and depth sum.
-float pcf(vec2 lo, vec2 hi, uint g, vec3 q, vec3 gr, float tw, out float nb, out float zb) {
+float pcf(vec2 lo, vec2 hi, uint g, vec3 q, vec4 gr, float tw, out float nb, out float zb) {
   nb = 0.0;
   zb = 0.0;
   for (uint j = 0u; j < g; ++j)
@@ -132,8 +132,8 @@ void square(vec3 q, float r, out vec2 lo, out vec2 hi) {
 
 // Bounds of the receiver's threshold (sm_threshold) over [lo, hi): the receiver plane's depth is
 // monotone along lines (1/z is linear), so its extremes are at the corners; the clamp to
-// q.z ± slope_max·tw·|o| is bounded by the farthest corner.
-vec2 threshold_range(vec3 q, vec3 g, vec2 lo, vec2 hi, float tw) {
+// q.z ± g.w·tw·|o| (the plane's slope bound) is bounded by the farthest corner.
+vec2 threshold_range(vec3 q, vec4 g, vec2 lo, vec2 hi, float tw) {
   float zmin = 1e30, zmax = -1e30, far = 0.0;
   for (int k = 0; k < 4; ++k) {
     vec2 o = vec2((k & 1) != 0 ? hi.x : lo.x, (k & 2) != 0 ? hi.y : lo.y) - q.xy;
@@ -143,11 +143,11 @@ vec2 threshold_range(vec3 q, vec3 g, vec2 lo, vec2 hi, float tw) {
     zmax = max(zmax, zc);
     far = max(far, length(o));
   }
-  float lim = p.slope_max * tw * far, b = p.bias * tw + p.spread_bias * g.z;
+  float lim = g.w * tw * far, b = p.bias * tw + p.spread_bias * g.z;
   return vec2(max(q.z - lim, min(zmin, q.z)), min(q.z + lim, max(q.z, zmax))) - b;
 }
 // The HSM's verdict on a sub-kernel: 1 all lit, -1 all blocked, 0 neither.
-int hsm_verdict(vec3 q, vec3 g, vec2 lo, vec2 hi, float tw) {
+int hsm_verdict(vec3 q, vec4 g, vec2 lo, vec2 hi, float tw) {
   vec2 zr = hsm_range(lo, hi), tr = threshold_range(q, g, lo, hi, tw);
   return zr.x >= tr.y ? 1 : (zr.y < tr.x ? -1 : 0);
 }
@@ -162,7 +162,7 @@ void main() {
   if (!sm_inside(q)) { soft[i] = hard[i]; return; }
   atomicAdd(stats[SHADOWMAP_STAT_PIXELS], 1u);
   bool back;
-  vec3 g = sm_receiver_plane(px, q, P, back);
+  vec4 g = sm_receiver_plane(px, q, P, back);
   if (back) { atomicAdd(stats[SHADOWMAP_STAT_SKIPPED], 1u); soft[i] = hard[i]; return; }
   float tw = 2.0 * q.z * p.tan_y / float(p.map_h);
   float k = p.light_radius * float(p.map_h) / (2.0 * p.tan_y);
@@ -170,7 +170,7 @@ void main() {
   vec2 a, b;
   square(q, rs, a, b);
   // HSM (Algorithm 2, L8-L10): bounds of the receiver's threshold over the kernel.
-  float lim = p.slope_max * tw * (rs + 1.0) * 1.5;
+  float lim = g.w * tw * (rs + 1.0) * 1.5;
   // The bias decides which sub-kernels hold blockers; Chebyshev's bound (eq. 7.1) and eq. 7.4
   // take the receiver's own depth (z_unocc = t), where they are exact for two planes.
   float unbias = p.bias * tw + p.spread_bias * g.z;

@@ -11,11 +11,15 @@
 
 #include "effects/shadows/shadowmap.h"
 #include "effects/view.h"
+#include "shadowmap_io.h"
 
 namespace isg::effects::detail {
 constexpr double kPi = 3.14159265358979323846;
 using V2 = std::array<double, 2>;
 using V3 = std::array<double, 3>;
+// A receiver plane: d(1/z)/du, d(1/z)/dv, the depth spread (bias), the slope bound (texel
+// footprints per texel of lateral offset); sm_receiver_plane in shaders/shadowmap_common.h.
+using Plane = std::array<double, 4>;
 
 // The double mirror of shadowmap_common.h.
 struct Geom {
@@ -50,8 +54,9 @@ struct Geom {
   bool inside(const V3& q) const {
     return q[2] > 0 && q[2] <= double(float(std::min(s.far_clip, 1e30))) && q[0] >= 0 && q[1] >= 0 && q[0] < map.width && q[1] < map.height;
   }
-  V3 receiver_plane(int px, int py, const V3& q, const V3& P, bool& back) const {
-    std::array<V3, 2> d{}, t{};
+  Plane receiver_plane(int px, int py, const V3& q, const V3& P, bool& back) const {
+    std::array<V3, 2> d{}, t{}, other{};  // other: the neighbour of each pair left out of the fit
+    std::array<bool, 2> has_other{false, false};
     back = false;
     int found = 0;
     double spread = 1e30;
@@ -67,17 +72,21 @@ struct Geom {
         V3 qn = project(Pn);
         if (qn[2] <= 0) continue;
         double dz = std::abs(qn[2] - q[2]);
+        const V3 dn = {qn[0] - q[0], qn[1] - q[1], 1.0 / qn[2] - 1.0 / q[2]};
         if (dz < best) {
+          if (best < 1e30) other[size_t(axis)] = bd, has_other[size_t(axis)] = true;
           best = dz;
-          bd = {qn[0] - q[0], qn[1] - q[1], 1.0 / qn[2] - 1.0 / q[2]};
+          bd = dn;
           bt = {Pn[0] - P[0], Pn[1] - P[1], Pn[2] - P[2]};
+        } else {
+          other[size_t(axis)] = dn, has_other[size_t(axis)] = true;
         }
       }
       if (best < 1e30) { t[size_t(found)] = bt; d[size_t(found++)] = bd; }
       spread = std::min(spread, best);
     }
     spread = (spread >= 1e30 ? 0.0 : spread) + eps;
-    if (found < 2) return {0, 0, spread};
+    if (found < 2) return {0, 0, spread, s.slope_max};
     if (s.has_camera) {
       V3 nr = {t[0][1] * t[1][2] - t[0][2] * t[1][1], t[0][2] * t[1][0] - t[0][0] * t[1][2],
                t[0][0] * t[1][1] - t[0][1] * t[1][0]};
@@ -88,15 +97,26 @@ struct Geom {
       back = se * dot_to(light_pos) < 0;
     }
     double det = d[0][0] * d[1][1] - d[0][1] * d[1][0];
-    if (std::abs(det) < 1e-8) return {0, 0, spread};
-    return {(d[0][2] * d[1][1] - d[1][2] * d[0][1]) / det,
-            (d[0][0] * d[1][2] - d[1][0] * d[0][2]) / det, spread};
+    if (std::abs(det) < 1e-8) return {0, 0, spread, s.slope_max};
+    const double gx = (d[0][2] * d[1][1] - d[1][2] * d[0][1]) / det;
+    const double gy = (d[0][0] * d[1][2] - d[1][0] * d[0][2]) / det;
+    // Planarity: each left-out neighbour's 1/z against the plane's, relative to its step; a
+    // planar receiver's plane is trusted to SHADOWMAP_TRUSTED_SLOPE, however grazing the light.
+    bool planar = false;
+    for (size_t axis = 0; axis < 2; ++axis) {
+      if (!has_other[axis]) continue;
+      const V3& o = other[axis];
+      const double pred = gx * o[0] + gy * o[1];
+      planar = std::abs(o[2] - pred) <= SHADOWMAP_PLANE_TOL * std::max(std::abs(o[2]), std::abs(pred));
+      if (!planar) break;
+    }
+    return {gx, gy, spread, planar ? std::max(s.slope_max, SHADOWMAP_TRUSTED_SLOPE) : s.slope_max};
   }
-  double threshold(const V3& q, const V3& g, double cx, double cy, double texel_world) const {
+  double threshold(const V3& q, const Plane& g, double cx, double cy, double texel_world) const {
     double ox = cx - q[0], oy = cy - q[1];
     double iz = 1.0 / q[2] + g[0] * ox + g[1] * oy;
     double zc = iz > 0 ? 1.0 / iz : 1e30;
-    double lim = s.slope_max * texel_world * std::sqrt(ox * ox + oy * oy);
+    double lim = g[3] * texel_world * std::sqrt(ox * ox + oy * oy);
     zc = std::clamp(zc, q[2] - lim, q[2] + lim);
     return zc - s.bias * texel_world - s.spread_bias * g[2];
   }
@@ -124,7 +144,7 @@ std::vector<float> shade_receivers(const Geom& G, ShadowmapStats& st, Shade&& sh
       if (!G.inside(q)) continue;
       ++st.pixels;
       bool back = false;
-      const V3 g = G.receiver_plane(px, py, q, P, back);
+      const Plane g = G.receiver_plane(px, py, q, P, back);
       if (back) { ++st.skipped; continue; }
       out[i] = float(shade(px, py, q, g));
     }

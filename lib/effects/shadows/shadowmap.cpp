@@ -17,6 +17,7 @@ namespace isg::effects {
 using detail::Geom;
 using detail::kPi;
 using detail::V2;
+using detail::Plane;
 using detail::V3;
 
 std::vector<float> shadowmap_taps(int n, const std::string& pattern) {
@@ -65,7 +66,7 @@ std::vector<float> pcss_reference(const ShadowmapInputs& in, const ShadowmapData
   ShadowmapStats st;
   const double k = s.light_radius * map.height / (2.0 * G.tan_y);
   auto out =
-      detail::shade_receivers(G, st, [&](int px, int py, const V3& q, const V3& g) -> double {
+      detail::shade_receivers(G, st, [&](int px, int py, const V3& q, const Plane& g) -> double {
         double texel_world = 2.0 * q[2] * G.tan_y / map.height;
         double a = s.rotate ? pixel_angle(uint32_t(px), uint32_t(py)) : 0.0;
         double ca = std::cos(a), sa = std::sin(a);
@@ -265,7 +266,7 @@ DerivedShadow shadowmap_derive_reference(const ShadowmapInputs& in, const Shadow
       const V3 P = G.position(i), q = G.project(P);
       if (!G.inside(q)) continue;
       bool back = false;
-      const V3 g = G.receiver_plane(px, py, q, P, back);
+      const Plane g = G.receiver_plane(px, py, q, P, back);
       if (back) continue;  // L.shadow 1 where key.direct vanishes (contract)
       const double texel_world = 2.0 * q[2] * G.tan_y / map.height;
       const double cx = std::floor(q[0]) + 0.5, cy = std::floor(q[1]) + 0.5;

@@ -15,6 +15,7 @@ namespace isg::effects {
 
 namespace {
 using detail::Geom;
+using detail::Plane;
 using detail::V3;
 
 // What both sides derive from the map and the settings.
@@ -150,7 +151,7 @@ struct VssmRef {
     hi = {a[0] + sx * (ix + 1), a[1] + sy * (iy + 1)};
   }
   static bool empty(F2 lo, F2 hi) { return hi[0] - lo[0] < 1e-3 || hi[1] - lo[1] < 1e-3; }
-  double pcf(F2 lo, F2 hi, int g, const V3& q, const V3& gr, double tw, double& nb,
+  double pcf(F2 lo, F2 hi, int g, const V3& q, const Plane& gr, double tw, double& nb,
              double& zb) const {
     nb = zb = 0;
     for (int j = 0; j < g; ++j)
@@ -167,11 +168,11 @@ struct VssmRef {
     lo = {std::max(q[0] - r, 0.0), std::max(q[1] - r, 0.0)};
     hi = {std::min(q[0] + r, double(W)), std::min(q[1] + r, double(Hh))};
   }
-  double threshold_at(const V3& q, const V3& g, F2 lo, F2 hi, double tw) const {
+  double threshold_at(const V3& q, const Plane& g, F2 lo, F2 hi, double tw) const {
     return G.threshold(q, g, 0.5 * (lo[0] + hi[0]), 0.5 * (lo[1] + hi[1]), tw);
   }
 
-  std::array<double, 2> threshold_range(const V3& q, const V3& g, F2 lo, F2 hi, double tw) const {
+  std::array<double, 2> threshold_range(const V3& q, const Plane& g, F2 lo, F2 hi, double tw) const {
     double zmin = 1e30, zmax = -1e30, far = 0;
     for (int k = 0; k < 4; ++k) {
       const double ox = ((k & 1) ? hi[0] : lo[0]) - q[0], oy = ((k & 2) ? hi[1] : lo[1]) - q[1];
@@ -181,17 +182,17 @@ struct VssmRef {
       zmax = std::max(zmax, zc);
       far = std::max(far, std::sqrt(ox * ox + oy * oy));
     }
-    const double lim = s.slope_max * tw * far, b = s.bias * tw + s.spread_bias * g[2];
+    const double lim = g[3] * tw * far, b = s.bias * tw + s.spread_bias * g[2];
     return {std::max(q[2] - lim, std::min(zmin, q[2])) - b, std::min(q[2] + lim, std::max(q[2], zmax)) - b};
   }
-  int hsm_verdict(const V3& q, const V3& g, F2 lo, F2 hi, double tw) const {
+  int hsm_verdict(const V3& q, const Plane& g, F2 lo, F2 hi, double tw) const {
     const auto zr = hsm_range(lo, hi);
     const auto tr = threshold_range(q, g, lo, hi, tw);
     return zr[0] >= tr[1] ? 1 : (zr[1] < tr[0] ? -1 : 0);
   }
 
   // One pixel inside the map, not back-facing.
-  double shade(int px, int py, const V3& q, const V3& g, ShadowmapStats& st) const {
+  double shade(int px, int py, const V3& q, const Plane& g, ShadowmapStats& st) const {
     const double tw = 2.0 * q[2] * G.tan_y / G.map.height;
     const double k = s.light_radius * G.map.height / (2.0 * G.tan_y);
     (void)px;
@@ -199,7 +200,7 @@ struct VssmRef {
     const double rs = std::min(k * std::max(1.0 / G.map.min_depth - 1.0 / q[2], 0.0), s.max_radius);
     F2 a, b;
     square(q, rs, a, b);
-    const double lim = s.slope_max * tw * (rs + 1.0) * 1.5;
+    const double lim = g[3] * tw * (rs + 1.0) * 1.5;
     const double unbias = s.bias * tw + s.spread_bias * g[2];
     const double base = q[2] - s.bias * tw - s.spread_bias * g[2];
     const auto zr = hsm_range(a, b);
@@ -402,7 +403,7 @@ std::vector<float> vssm_reference(const ShadowmapInputs& in, const ShadowmapData
   VssmRef R(G, s);
   ShadowmapStats st;
   auto out = detail::shade_receivers(
-      G, st, [&](int px, int py, const V3& q, const V3& g) { return R.shade(px, py, q, g, st); });
+      G, st, [&](int px, int py, const V3& q, const Plane& g) { return R.shade(px, py, q, g, st); });
   if (stats) *stats = st;
   return out;
 }
