@@ -26,19 +26,15 @@ vec2 isg_concentric(uint k, uint grid) {
   else { r = b; phi = pi / 2.0 - (pi / 4.0) * (a / b); }
   return r * vec2(cos(phi), sin(phi));
 }
-// Reduced-resolution reuse (issue 18): the pixel at l in its workgroup against a grid of points
-// every `step` pixels (`points` a side; point g stands at pixel step·g, clamped at the border):
-// g0 the lower corner, a the bilinear fractions; corner k (bit 0: +x, bit 1: +y) weighs
-// isg_quad_weight(a, k). Step 2 is the grid of 2×2 quads (isg_quad_bilinear), 4 of 4×4 blocks.
-// lib/effects/sampling.h's grid_bilinear mirrors it.
-void isg_grid_bilinear(uvec2 l, uint step, uint points, out uvec2 g0, out vec2 a) {
-  vec2 f = vec2(l) / float(step);
-  vec2 c = clamp(floor(f), vec2(0.0), vec2(float(points - 2u)));
-  g0 = uvec2(c);
-  a = clamp(f - c, vec2(0.0), vec2(1.0));
-}
+// Half-resolution reuse (issue 18): the pixel at l in its workgroup against the workgroup's
+// quads x quads grid of 2×2 quads, quad q standing at its top-left pixel 2q (clamped at the
+// border): q0 the lower corner, a the bilinear fractions; corner k (bit 0: +x, bit 1: +y) weighs
+// isg_quad_weight(a, k). lib/effects/sampling.h's quad_bilinear mirrors it.
 void isg_quad_bilinear(uvec2 l, uint quads, out uvec2 q0, out vec2 a) {
-  isg_grid_bilinear(l, 2u, quads, q0, a);
+  vec2 f = vec2(l) * 0.5;
+  vec2 c = clamp(floor(f), vec2(0.0), vec2(float(quads - 2u)));
+  q0 = uvec2(c);
+  a = clamp(f - c, vec2(0.0), vec2(1.0));
 }
 float isg_quad_weight(vec2 a, uint k) {
   return ((k & 1u) != 0u ? a.x : 1.0 - a.x) * ((k >> 1u) != 0u ? a.y : 1.0 - a.y);

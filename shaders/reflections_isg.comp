@@ -61,7 +61,7 @@ vec3 refl_blur(uvec2 p, uint i) {
   mat2 R = pixel_rotation(p);
   vec3 s = pack_color[i].rgb;
   float ws = 1.0;
-  uint gs = pc.grids & 0xffu, gg = (pc.grids >> 8) & 0xffu;
+  uint gs = pc.grids & 0xffffu, gg = pc.grids >> 16;
   for (uint k = 0u; k < gg * gg; ++k) {
     vec4 c = pack_color[tap(p0 + pc.blur_radius * (R * samples[gs * gs + k].xy))];
     float w = has_refl(c) ? 1.0 : 0.0;
@@ -113,7 +113,7 @@ float search(Lobe L, uint i) {
   float st = d0 > 0.0 ? d0 / (L.e + d0) : 1.0;
   float sw = 1.0;
   if (d0 <= 0.0 && (pc.flags & 8u) == 0u) { st = 0.0; sw = 0.0; }
-  uint gs = pc.grids & 0xffu;
+  uint gs = pc.grids & 0xffffu;
   mat2 FR = L.R_p * L.F;
   for (uint k = 0u; k < gs * gs; ++k) {
     vec4 u = samples[k];
@@ -159,24 +159,16 @@ float albedo_of(Lobe L) {
 // along its azimuth (eq. 14 narrows the minor axis); what is left of the GGX weight per solid
 // angle is 1 / cos θ_h. With τ = tan θ_h = α·sqrt(ξ/(1−ξ)): tan 2θ_h = 2τ/(1−τ²) and
 // 1/cos θ_h = sqrt(1+τ²) (θ_h ≤ 0.65, so τ < 1).
-uint gather_count(bool block) {
-  uint g = block ? pc.grids >> 16 : (pc.grids >> 8) & 0xffu;
-  return g * g;
-}
-
-// `block`: a 4×4 block's representative, over the denser block lattice (after the gather's in
-// the sample table).
-vec3 gather_mean(Lobe L, uint i, Foot F, bool block) {
+vec3 gather_mean(Lobe L, uint i, Foot F) {
   float alpha = L.alpha;
   float tm = tan(F.th_max);
   float xi_max = tm * tm / (alpha * alpha + tm * tm);
   vec3 s = pack_color[i].rgb;
   float ws = 1.0;
-  uint gs = pc.grids & 0xffu, gg = (pc.grids >> 8) & 0xffu, gb = pc.grids >> 16;
-  uint first = gs * gs + (block ? gg * gg : 0u), count = block ? gb * gb : gg * gg;
+  uint gs = pc.grids & 0xffffu, gg = pc.grids >> 16;
   mat2 FK = F.k_px * L.F;
-  for (uint k = 0u; k < count; ++k) {
-    vec4 u = samples[first + k];
+  for (uint k = 0u; k < gg * gg; ++k) {
+    vec4 u = samples[gs * gs + k];
     float xi = xi_max * u.w;
     float tau2 = alpha * alpha * xi / (1.0 - xi);
     float tau = sqrt(tau2);
@@ -195,34 +187,32 @@ vec3 gather_mean(Lobe L, uint i, Foot F, bool block) {
 vec3 gather(Lobe L, uint i, Foot F) {
   vec3 c0 = pack_color[i].rgb;
   if (F.R_s < 0.25) return albedo_of(L) * c0;
-  return albedo_of(L) * mix(c0, gather_mean(L, i, F, false), smoothstep(0.25, 0.75, F.R_s));
+  return albedo_of(L) * mix(c0, gather_mean(L, i, F), smoothstep(0.25, 0.75, F.R_s));
 }
 
-// The search and the wide gathers at reduced resolution (issue 18): one search per 2×2 quad of
-// the tile, from its first glossy pixel (the quad's representative), and that pixel's gather
-// where its footprint is wide (past REFL_BLOCK_RADIUS, only in one quad of each 4×4 block).
+// The search and the wide gathers at half resolution (issue 18): one search per 2×2 quad of the
+// tile, from its first glossy pixel (the quad's representative), and that pixel's gather where
+// its footprint is wide.
 #define REFL_QUADS (REFL_TILE / 2u)
 #define REFL_NO_REP 0xffffffffu
 shared uint quad_rep[REFL_QUADS * REFL_QUADS];    // the representative's index, or REFL_NO_REP
 shared float quad_t[REFL_QUADS * REFL_QUADS];     // its t̄ (eq. 4 over t = E/(e+E))
 shared vec4 quad_mean[REFL_QUADS * REFL_QUADS];   // its gather_mean and R_s (w < 0: none)
-shared uint tile_searches, tile_gathers;  // searches run, samples the gathers took
+shared uint tile_searches, tile_gathers;
 
 // A wide lobe's mean (R_s ≥ REFL_REUSE_RADIUS) moves little from one pixel to the next: the
-// pixel takes it bilinearly from the representatives' gathers around it in the tile's grid of
-// quads (step 2) or of 4×4 blocks (step 4: the quads at even quad coordinates), from those on
-// its surface (eq. 10 range weight ≥ REFL_QUAD_SAME) whose footprint is within a factor
-// REFL_REUSE_RATIO of its own. False where they hold under REFL_REUSE_COVER of the bilinear
-// weight (blocks: REFL_BLOCK_COVER): the pixel tries the finer grid, then gathers for itself.
-bool reuse(Lobe L, float R_s, uint step, out vec3 m) {
-  uvec2 g0;  // the lower corner of the grid points around the pixel
+// pixel takes it bilinearly from the representatives' gathers around it in the tile's quad grid,
+// from those on its surface (eq. 10 range weight ≥ REFL_QUAD_SAME) whose footprint is within a
+// factor REFL_REUSE_RATIO of its own. False where they hold under REFL_REUSE_COVER of the
+// bilinear weight: the pixel gathers for itself.
+bool reuse(Lobe L, float R_s, out vec3 m) {
+  uvec2 q0;  // the lower corner of the quads around the pixel (at their top-left pixels)
   vec2 a;
-  isg_grid_bilinear(gl_LocalInvocationID.xy, step, REFL_TILE / step, g0, a);
-  uint to_quad = step / 2u;  // grid point -> quad coordinates
+  isg_quad_bilinear(gl_LocalInvocationID.xy, REFL_QUADS, q0, a);
   vec3 s = vec3(0.0);
   float ws = 0.0;
   for (uint k = 0u; k < 4u; ++k) {
-    uint q = (g0.y + (k >> 1u)) * to_quad * REFL_QUADS + (g0.x + (k & 1u)) * to_quad;
+    uint q = (q0.y + (k >> 1u)) * REFL_QUADS + q0.x + (k & 1u);
     float w = isg_quad_weight(a, k);
     vec4 c = quad_mean[q];
     if (w <= 0.0 || c.w < 0.0 || c.w * REFL_REUSE_RATIO < R_s || R_s * REFL_REUSE_RATIO < c.w) continue;
@@ -231,24 +221,25 @@ bool reuse(Lobe L, float R_s, uint step, out vec3 m) {
     ws += w;
   }
   m = ws > 0.0 ? s / ws : vec3(0.0);
-  return ws >= (step == 4u ? REFL_BLOCK_COVER : REFL_REUSE_COVER);
+  return ws >= REFL_REUSE_COVER;
 }
 
-// A glossy pixel's lobe and footprint: its quad's t̄, or its own search where it lies on another
-// surface than its quad's representative.
-void refl_lobe(uvec2 p, uint i, out Lobe L, out Foot F) {
-  L = lobe_at(p, i);
+vec3 refl_isg(uvec2 p, uint i) {
+  Lobe L = lobe_at(p, i);
   uvec2 l = gl_LocalInvocationID.xy / 2u;
   uint q = l.y * REFL_QUADS + l.x, r = quad_rep[q];
   float t_bar = quad_t[q];
+  // A pixel on another surface than its quad's representative searches for itself.
   if (r != i && range_fn(pack_geo[r], L.P0, L.N0) < REFL_QUAD_SAME) {
     t_bar = search(L, i);
     atomicAdd(tile_searches, 1u);
   }
-  F = footprint(L, t_bar);
+  Foot F = footprint(L, t_bar);
+  vec3 m;
+  if (F.R_s >= REFL_REUSE_RADIUS && reuse(L, F.R_s, m)) return albedo_of(L) * m;
+  if (F.R_s >= 0.25) atomicAdd(tile_gathers, 1u);
+  return gather(L, i, F);
 }
-
-shared uint quad_need[REFL_QUADS * REFL_QUADS];  // a pixel wants this quad's (deferred) gather
 
 void main() {
   uvec2 p = gl_GlobalInvocationID.xy;
@@ -259,18 +250,13 @@ void main() {
   bool g = inside && is_glossy(i);
   if (g) atomicAdd(tile_glossy, 1u);
   barrier();
-  bool isg = tile_glossy != 0u && pc.mode == REFL_MODE_ISG;
-  // 1. The quads' searches and wide gathers, one invocation per quad (the first REFL_QUADS²
-  // lanes, so that whole SIMD rows of llvmpipe sit idle rather than three lanes in four). Past
-  // REFL_BLOCK_RADIUS only the blocks' quads (even quad coordinates) gather now; the others
-  // wait for a pixel that cannot use the blocks (step 3).
+  // The quads' searches and wide gathers, one invocation per quad (the first REFL_QUADS² lanes,
+  // so that whole SIMD rows of llvmpipe sit idle rather than three lanes in four).
   uint q = gl_LocalInvocationIndex;
-  bool quad_lane = isg && q < REFL_QUADS * REFL_QUADS;
-  uvec2 rp = uvec2(0u);
-  if (quad_lane) {
+  if (tile_glossy != 0u && pc.mode == REFL_MODE_ISG && q < REFL_QUADS * REFL_QUADS) {
     uvec2 base = gl_WorkGroupID.xy * REFL_TILE + 2u * uvec2(q % REFL_QUADS, q / REFL_QUADS);
     uint r = REFL_NO_REP;
-    rp = base;
+    uvec2 rp = base;
     for (uint k = 0u; k < 4u; ++k) {
       uvec2 pp = base + uvec2(k & 1u, k >> 1u);
       if (r == REFL_NO_REP && pp.x < pc.width && pp.y < pc.height && is_glossy(pp.y * pc.width + pp.x)) {
@@ -279,7 +265,6 @@ void main() {
       }
     }
     quad_rep[q] = r;
-    quad_need[q] = 0u;
     quad_mean[q] = vec4(0.0, 0.0, 0.0, -1.0);
     if (r != REFL_NO_REP) {
       Lobe L = lobe_at(rp, r);
@@ -287,59 +272,15 @@ void main() {
       quad_t[q] = t;
       atomicAdd(tile_searches, 1u);
       Foot F = footprint(L, t);
-      bool block = ((q % REFL_QUADS) & 1u) == 0u && ((q / REFL_QUADS) & 1u) == 0u;
-      if (F.R_s >= REFL_REUSE_RADIUS && (block || F.R_s < REFL_BLOCK_RADIUS)) {
-        bool dense = block && F.R_s >= REFL_BLOCK_RADIUS;
-        quad_mean[q] = vec4(gather_mean(L, r, F, dense), F.R_s);
-        atomicAdd(tile_gathers, gather_count(dense));
+      if (F.R_s >= REFL_REUSE_RADIUS) {
+        quad_mean[q] = vec4(gather_mean(L, r, F), F.R_s);
+        atomicAdd(tile_gathers, 1u);
       }
     }
   }
   barrier();
-  // 2. Each glossy pixel's footprint; the widest take the blocks' means. A pixel that wants the
-  // quads' means marks the four quads around it.
   vec3 c = inside ? pack_color[i].rgb : vec3(0.0);
-  bool todo = tile_glossy != 0u && g;
-  Lobe L;
-  Foot F;
-  if (todo && !isg) {
-    c = refl_blur(p, i);
-    todo = false;
-  }
-  vec3 m;
-  if (todo) {
-    refl_lobe(p, i, L, F);
-    if (F.R_s >= REFL_BLOCK_RADIUS && reuse(L, F.R_s, 4u, m)) {
-      c = albedo_of(L) * m;
-      todo = false;
-    } else if (F.R_s >= REFL_REUSE_RADIUS) {
-      uvec2 q0;
-      vec2 a;
-      isg_quad_bilinear(gl_LocalInvocationID.xy, REFL_QUADS, q0, a);
-      for (uint k = 0u; k < 4u; ++k)
-        if (isg_quad_weight(a, k) > 0.0) quad_need[(q0.y + (k >> 1u)) * REFL_QUADS + q0.x + (k & 1u)] = 1u;
-    }
-  }
-  barrier();
-  // 3. The deferred gathers that a pixel wants.
-  if (quad_lane && quad_need[q] != 0u && quad_mean[q].w < 0.0 && quad_rep[q] != REFL_NO_REP) {
-    Lobe Lq = lobe_at(rp, quad_rep[q]);
-    Foot Fq = footprint(Lq, quad_t[q]);
-    if (Fq.R_s >= REFL_REUSE_RADIUS) {
-      quad_mean[q] = vec4(gather_mean(Lq, quad_rep[q], Fq, false), Fq.R_s);
-      atomicAdd(tile_gathers, gather_count(false));
-    }
-  }
-  barrier();
-  // 4. The quads' means, else the pixel's own gather.
-  if (todo) {
-    if (F.R_s >= REFL_REUSE_RADIUS && reuse(L, F.R_s, 2u, m)) {
-      c = albedo_of(L) * m;
-    } else {
-      if (F.R_s >= 0.25) atomicAdd(tile_gathers, gather_count(false));
-      c = gather(L, i, F);
-    }
-  }
+  if (tile_glossy != 0u && g) c = pc.mode == REFL_MODE_BLUR ? refl_blur(p, i) : refl_isg(p, i);
   barrier();
   // Tiles with nothing glossy take the cheap path: refl.glossy = refl. The others record how
   // many pixels were glossy, how many searches and how many gathers ran (the statistics behind

@@ -30,25 +30,13 @@ ISG_IO_BEGIN
 #define REFL_REUSE_RADIUS 32.0
 #define REFL_REUSE_RATIO 1.25
 #define REFL_REUSE_COVER 0.5
-// From this footprint on, the same at quarter resolution: the pixel first tries the grid of 4×4
-// blocks (the representatives of the quads at even quad coordinates, by the same rules but
-// needing all four corners: REFL_BLOCK_COVER); there only those quads' representatives gather
-// at once, the others when a pixel that cannot use the blocks wants them. A block's
-// representative gathers over a denser lattice (side ceil(REFL_BLOCK_GRID_SCALE · gather grid):
-// 81 samples for 49). Shared gloss (480×270) refl.glossy RMSE: quads only 0.00226; blocks
-// 0.00233 with the gather's lattice, 0.00223 with 81 samples, 0.00222 with 100; 1080p isg-synth
-// contact: 18.5 -> 11.5 samples a glossy pixel.
-#define REFL_BLOCK_RADIUS 64.0
-#define REFL_BLOCK_COVER 0.99
-#define REFL_BLOCK_GRID_SCALE 1.22474487
 // refl.tiles holds −(glossy pixels + REFL_STATS_SEARCHES · searches) for a tile that gathered
-// (1 for a cheap tile), then the samples each tile's gathers took.
+// (1 for a cheap tile), then the number of gathers each tile ran.
 #define REFL_STATS_SEARCHES 1024u
 struct ReflIsgPush {
   uint width;
   uint height;
-  uint grids;          // search grid | gather grid << 8 | block gather grid << 16: samples =
-                       // grid², concentric disk
+  uint grids;          // search grid | gather grid << 16: samples = grid², concentric disk
   uint origin;         // the image's origin in the frame, x | y << 16 (the pixel hash's)
   uint mode;           // REFL_MODE_*
   uint flags;          // bits: 1 search reach, 4 anisotropic, 8 misses in search, 16 masking,

@@ -10,8 +10,8 @@ layout(std430, binding = 0) readonly buffer Pack { vec4 pack[]; };  // P − eye
 layout(std430, binding = 1) readonly buffer Occluder { float occluder[]; };
 layout(std430, binding = 2) buffer Tiles { uint tiles[]; };
 layout(std430, binding = 3) writeonly buffer Soft { float soft[]; };
-// The search lattice (grid_s² entries), the gather lattice (grid_g²) and the blocks' gather
-// lattice (grid_b²): concentric-disk points made on the host, (x, y) of each vec2.
+// The search lattice (grid_s² entries) then the gather lattice (grid_g²): concentric-disk
+// points made on the host, (x, y) of each vec2.
 layout(std430, binding = 4) readonly buffer Samples { vec2 samples[]; };
 layout(std430, binding = 5) readonly buffer Shadow { float shadow_in[]; };  // for the background
 layout(push_constant) uniform Push { ShadowsIsgPush pc; };
@@ -20,10 +20,9 @@ const float PI = 3.14159265358979;
 shared uint s_rp;     // the tile's largest search radius (float bits)
 shared uint s_reach;  // OR of the flags of the tiles within reach
 shared uint s_dloc;   // the largest occluder distance of the tiles within reach (float bits)
-// The search and the wide gathers at reduced resolution (issue 18): per 2×2 quad of the tile,
-// its first foreground pixel (the representative) searches, and gathers where its radius R_g is
-// at least SHADOWS_ISG_REUSE_RADIUS (past SHADOWS_ISG_BLOCK_RADIUS, at once only in one quad of
-// each 4×4 block).
+// The search and the wide gathers at half resolution (issue 18): per 2×2 quad of the tile, its
+// first foreground pixel (the representative) searches, and gathers where its radius R_g is at
+// least SHADOWS_ISG_REUSE_RADIUS.
 #define QUADS (SHADOWS_ISG_TILE / 2u)
 #define NO_REP 0xffffffffu
 shared uint q_rep[QUADS * QUADS];  // the representative's index, or NO_REP
@@ -112,7 +111,7 @@ float search(Recv R, uvec2 p, uint i, float Rp) {
   }
   vec2 p0 = vec2(p + uvec2(pc.origin & 0xffffu, pc.origin >> 16)) + 0.5;  // frame coordinates
   ivec2 org = ivec2(pc.origin & 0xffffu, pc.origin >> 16);
-  uint grid_search = pc.grids & 0xffu;
+  uint grid_search = pc.grids & 0xffffu;
   mat2 Rot = lattice(p, Rp);
   for (uint k = 0u; k < grid_search * grid_search; ++k) {
     vec2 x = p0 + Rot * samples[k] - 0.5;
@@ -149,20 +148,14 @@ float search(Recv R, uvec2 p, uint i, float Rp) {
 // in the search: the shadow bits are a binary signal, and point taps of them alias (issue 18:
 // isg-synth contact's error rose 40 % with point taps in the gather, shared contact's 7 % at 9
 // search samples with point taps in the search).
-uint gather_count(bool block) {  // the samples of a gather
-  uint g = block ? pc.grids >> 16 : (pc.grids >> 8) & 0xffu;
-  return g * g;
-}
-// `block`: a 4×4 block's representative, over the blocks' denser lattice.
-float gather(Recv R, uvec2 p, uint i, float Rs, float Rg, bool block) {
+float gather(Recv R, uvec2 p, uint i, float Rs, float Rg) {
   float sum = shadow_in[i], ws = 1.0;
   vec2 p0 = vec2(p + uvec2(pc.origin & 0xffffu, pc.origin >> 16)) + 0.5;
   ivec2 org = ivec2(pc.origin & 0xffffu, pc.origin >> 16);
-  uint gs = pc.grids & 0xffu, gg = (pc.grids >> 8) & 0xffu;
-  uint first = gs * gs + (block ? gg * gg : 0u), count = gather_count(block);
+  uint grid_search = pc.grids & 0xffffu, grid_gather = pc.grids >> 16;
   mat2 Rog = lattice(p, Rg);
-  for (uint k = 0u; k < count; ++k) {
-    vec2 x = p0 + Rog * samples[first + k] - 0.5;
+  for (uint k = 0u; k < grid_gather * grid_gather; ++k) {
+    vec2 x = p0 + Rog * samples[grid_search * grid_search + k] - 0.5;
     vec2 x0 = floor(x), f = x - x0;
     ivec2 xa = ivec2(x0) - org;
     for (int j = 0; j < 4; ++j) {
@@ -182,19 +175,17 @@ float gather(Recv R, uvec2 p, uint i, float Rs, float Rg, bool block) {
 }
 
 // A wide penumbra's gather (R_g ≥ SHADOWS_ISG_REUSE_RADIUS) moves little from one pixel to the
-// next: bilinear from the representatives' gathers around the pixel in the tile's grid of quads
-// (step 2) or of 4×4 blocks (step 4: the quads at even coordinates), from those on its surface
-// (eq. 6 weight ≥ SHADOWS_ISG_QUAD_SAME) whose R_g is within a factor SHADOWS_ISG_REUSE_RATIO of
-// its own. False where they hold under SHADOWS_ISG_REUSE_COVER of the bilinear weight (blocks:
-// SHADOWS_ISG_BLOCK_COVER): the pixel tries the finer grid, then gathers for itself.
-bool reuse(vec3 P0, float Rg, uint step, out float m) {
-  uvec2 g0;  // the lower corner of the grid points around the pixel
+// next: bilinear from the representatives' gathers around the pixel in the tile's quad grid, from
+// those on its surface (eq. 6 weight ≥ SHADOWS_ISG_QUAD_SAME) whose R_g is within a factor
+// SHADOWS_ISG_REUSE_RATIO of its own. False where they hold under SHADOWS_ISG_REUSE_COVER of the
+// bilinear weight: the pixel gathers for itself.
+bool reuse(vec3 P0, float Rg, out float m) {
+  uvec2 q0;  // the lower corner of the quads around the pixel (at their top-left pixels)
   vec2 a;
-  isg_grid_bilinear(gl_LocalInvocationID.xy, step, SHADOWS_ISG_TILE / step, g0, a);
-  uint to_quad = step / 2u;  // grid point -> quad coordinates
+  isg_quad_bilinear(gl_LocalInvocationID.xy, QUADS, q0, a);
   float s = 0.0, ws = 0.0;
   for (uint k = 0u; k < 4u; ++k) {
-    uint q = (g0.y + (k >> 1u)) * to_quad * QUADS + (g0.x + (k & 1u)) * to_quad;
+    uint q = (q0.y + (k >> 1u)) * QUADS + q0.x + (k & 1u);
     float w = isg_quad_weight(a, k);
     vec2 g = q_g[q];
     if (w <= 0.0 || g.y < 0.0 || g.y * SHADOWS_ISG_REUSE_RATIO < Rg || Rg * SHADOWS_ISG_REUSE_RATIO < g.y) continue;
@@ -203,10 +194,8 @@ bool reuse(vec3 P0, float Rg, uint step, out float m) {
     ws += w;
   }
   m = ws > 0.0 ? s / ws : 0.0;
-  return ws >= (step == 4u ? SHADOWS_ISG_BLOCK_COVER : SHADOWS_ISG_REUSE_COVER);
+  return ws >= SHADOWS_ISG_REUSE_COVER;
 }
-
-shared uint q_need[QUADS * QUADS];  // a pixel wants this quad's (deferred) gather
 
 void main() {
   uvec2 p = gl_GlobalInvocationID.xy;
@@ -251,17 +240,13 @@ void main() {
   // Eq. 5: the search radius R_p covers the widest penumbra the occluders around can cast.
   float d_loc = uintBitsToFloat(s_dloc);
 
-  // 1. The quads' searches and wide gathers, one invocation per quad (the first QUADS² lanes, so
-  // that whole SIMD rows of llvmpipe sit idle rather than three lanes in four). Past
-  // SHADOWS_ISG_BLOCK_RADIUS only the blocks' quads (even quad coordinates) gather now; the
-  // others wait for a pixel that cannot use the blocks (step 3).
+  // The quads' searches and wide gathers, one invocation per quad (the first QUADS² lanes, so
+  // that whole SIMD rows of llvmpipe sit idle rather than three lanes in four).
   uint q = gl_LocalInvocationIndex;
-  bool quad_lane = !cheap && q < QUADS * QUADS;
-  uvec2 rp = uvec2(0u);
-  if (quad_lane) {
+  if (!cheap && q < QUADS * QUADS) {
     uvec2 base = gl_WorkGroupID.xy * SHADOWS_ISG_TILE + 2u * uvec2(q % QUADS, q / QUADS);
     uint r = NO_REP;
-    rp = base;
+    uvec2 rp = base;
     for (uint k = 0u; k < 4u; ++k) {
       uvec2 pp = base + uvec2(k & 1u, k >> 1u);
       if (r == NO_REP && pp.x < pc.width && pp.y < pc.height && foreground(pack[pp.y * pc.width + pp.x])) {
@@ -270,7 +255,6 @@ void main() {
       }
     }
     q_rep[q] = r;
-    q_need[q] = 0u;
     q_d[q] = -1.0;
     q_g[q] = vec2(0.0, -1.0);
     if (r != NO_REP) {
@@ -282,79 +266,48 @@ void main() {
       if (d >= 0.0) {
         float Rs = penumbra(d, Rr.D);
         float Rg = min(Rs / Rr.pix, pc.max_radius);
-        bool block = ((q % QUADS) & 1u) == 0u && ((q / QUADS) & 1u) == 0u;
-        if (Rg >= SHADOWS_ISG_REUSE_RADIUS && (block || Rg < SHADOWS_ISG_BLOCK_RADIUS)) {
-          bool dense = block && Rg >= SHADOWS_ISG_BLOCK_RADIUS;
-          q_g[q] = vec2(gather(Rr, rp, r, Rs, Rg, dense), Rg);
-          atomicAdd(tiles[3u * nt + SHADOWS_ISG_STAT_GATHERS], gather_count(dense));
+        if (Rg >= SHADOWS_ISG_REUSE_RADIUS) {
+          q_g[q] = vec2(gather(Rr, rp, r, Rs, Rg), Rg);
+          atomicAdd(tiles[3u * nt + SHADOWS_ISG_STAT_GATHERS], 1u);
         }
       }
     }
   }
   barrier();
-  // 2. Each foreground pixel's search (its quad representative's, unless it lies on another
-  // surface) and radii (eq. 8-9); the widest take the blocks' gathers. A pixel that wants the
-  // quads' gathers marks the four quads around it. Background is left untouched; the cheap path
-  // keeps the hard shadow; so does a pixel with no occluder within reach.
-  float s0 = inside ? shadow_in[i] : 0.0;
-  float result = s0;
-  bool todo = inside && fg0 && !cheap;
-  bool clamped = false;
-  float Rs = 0.0, Rg = 0.0;
-  if (todo) {
-    atomicAdd(tiles[3u * nt + SHADOWS_ISG_STAT_FULL], 1u);
-    float Rp_raw = d_loc > 0.0 ? penumbra(d_loc, R.D) / R.pix : 0.0;
-    clamped = Rp_raw > pc.max_radius;
-    uvec2 l = gl_LocalInvocationID.xy / 2u;
-    uint qs = l.y * QUADS + l.x, r = q_rep[qs];
-    float d = q_d[qs];
-    if (r != i && range_l(length(pack[r].xyz - R.P0)) < SHADOWS_ISG_QUAD_SAME) {
-      d = search(R, p, i, min(Rp_raw, pc.max_radius));
-      atomicAdd(tiles[3u * nt + SHADOWS_ISG_STAT_SEARCHES], 1u);
-    }
-    if (d < 0.0) {
-      todo = false;
-    } else {
-      Rs = penumbra(d, R.D);
-      float Rg_raw = Rs / R.pix;
-      clamped = clamped || Rg_raw > pc.max_radius;
-      Rg = min(Rg_raw, pc.max_radius);
-      float m;
-      if (Rg >= SHADOWS_ISG_BLOCK_RADIUS && reuse(R.P0, Rg, 4u, m)) {
-        result = m;
-        todo = false;
-      } else if (Rg >= SHADOWS_ISG_REUSE_RADIUS) {
-        uvec2 q0;
-        vec2 a;
-        isg_quad_bilinear(gl_LocalInvocationID.xy, QUADS, q0, a);
-        for (uint k = 0u; k < 4u; ++k)
-          if (isg_quad_weight(a, k) > 0.0) q_need[(q0.y + (k >> 1u)) * QUADS + q0.x + (k & 1u)] = 1u;
-      }
-    }
-  }
-  barrier();
-  // 3. The deferred gathers that a pixel wants.
-  if (quad_lane && q_need[q] != 0u && q_g[q].y < 0.0 && q_d[q] >= 0.0) {
-    Recv Rr = receiver(rp, pack[q_rep[q]].xyz);
-    float Rsq = penumbra(q_d[q], Rr.D);
-    float Rgq = min(Rsq / Rr.pix, pc.max_radius);
-    if (Rgq >= SHADOWS_ISG_REUSE_RADIUS) {
-      q_g[q] = vec2(gather(Rr, rp, q_rep[q], Rsq, Rgq, false), Rgq);
-      atomicAdd(tiles[3u * nt + SHADOWS_ISG_STAT_GATHERS], gather_count(false));
-    }
-  }
-  barrier();
-  // 4. The quads' gathers, else the pixel's own.
-  if (todo) {
-    float m;
-    if (Rg >= SHADOWS_ISG_REUSE_RADIUS && reuse(R.P0, Rg, 2u, m)) {
-      result = m;
-    } else {
-      result = gather(R, p, i, Rs, Rg, false);
-      atomicAdd(tiles[3u * nt + SHADOWS_ISG_STAT_GATHERS], gather_count(false));
-    }
-  }
   if (!inside) return;
-  soft[i] = result;
-  if (fg0 && !cheap && clamped) atomicAdd(tiles[3u * nt + SHADOWS_ISG_STAT_CLAMPED], 1u);
+  float s0 = shadow_in[i];
+  // Background is left untouched; the cheap path keeps the hard shadow.
+  if (!fg0 || cheap) {
+    soft[i] = s0;
+    return;
+  }
+  atomicAdd(tiles[3u * nt + SHADOWS_ISG_STAT_FULL], 1u);
+  float Rp_raw = d_loc > 0.0 ? penumbra(d_loc, R.D) / R.pix : 0.0;
+  bool clamped = Rp_raw > pc.max_radius;
+  // The search: the quad representative's, unless the pixel lies on another surface.
+  uvec2 l = gl_LocalInvocationID.xy / 2u;
+  uint qs = l.y * QUADS + l.x, r = q_rep[qs];
+  float d = q_d[qs];
+  if (r != i && range_l(length(pack[r].xyz - R.P0)) < SHADOWS_ISG_QUAD_SAME) {
+    d = search(R, p, i, min(Rp_raw, pc.max_radius));
+    atomicAdd(tiles[3u * nt + SHADOWS_ISG_STAT_SEARCHES], 1u);
+  }
+  if (d < 0.0) {  // no occluder within reach: the hard shadow stands
+    soft[i] = s0;
+    if (clamped) atomicAdd(tiles[3u * nt + SHADOWS_ISG_STAT_CLAMPED], 1u);
+    return;
+  }
+  // Eq. 8-9: the penumbra radius R_s in the world, R_g in pixels at the receiver's depth.
+  float Rs = penumbra(d, R.D);
+  float Rg_raw = Rs / R.pix;
+  clamped = clamped || Rg_raw > pc.max_radius;
+  float Rg = min(Rg_raw, pc.max_radius);
+  float m;
+  if (Rg >= SHADOWS_ISG_REUSE_RADIUS && reuse(R.P0, Rg, m)) {
+    soft[i] = m;
+  } else {
+    soft[i] = gather(R, p, i, Rs, Rg);
+    atomicAdd(tiles[3u * nt + SHADOWS_ISG_STAT_GATHERS], 1u);
+  }
+  if (clamped) atomicAdd(tiles[3u * nt + SHADOWS_ISG_STAT_CLAMPED], 1u);
 }

@@ -15,8 +15,7 @@ ISG_IO_BEGIN
 #define SHADOWS_ISG_STAT_CLAMPED 1u  // pixels whose search or gather radius exceeded max_radius
 #define SHADOWS_ISG_STAT_FULL 2u     // pixels that ran the search and gather
 #define SHADOWS_ISG_STAT_SEARCHES 3u // parameter searches run (one per 2×2 quad, more at edges)
-#define SHADOWS_ISG_STAT_GATHERS 4u  // samples the gathers took (one gather per quad or block for
-                                     // wide penumbrae, more at edges)
+#define SHADOWS_ISG_STAT_GATHERS 4u  // gathers run (one per quad for wide penumbrae, more at edges)
 #define SHADOWS_ISG_STATS 5u
 // The search runs once per 2×2 quad (its first foreground pixel, the representative); a pixel
 // whose eq. 6 range weight to the representative is below this searches for itself.
@@ -28,14 +27,6 @@ ISG_IO_BEGIN
 #define SHADOWS_ISG_REUSE_RADIUS 32.0
 #define SHADOWS_ISG_REUSE_RATIO 1.25
 #define SHADOWS_ISG_REUSE_COVER 0.5
-// From this R_g on, the same at quarter resolution (as reflections.isg's REFL_BLOCK_*): the pixel
-// first tries the grid of 4×4 blocks (the quads at even quad coordinates), needing all four
-// corners; only those quads' representatives gather at once, over a denser lattice (side
-// ceil(SHADOWS_ISG_BLOCK_GRID_SCALE · gather grid)), the others when a pixel that cannot use
-// the blocks wants them.
-#define SHADOWS_ISG_BLOCK_RADIUS 64.0
-#define SHADOWS_ISG_BLOCK_COVER 0.99
-#define SHADOWS_ISG_BLOCK_GRID_SCALE 1.22474487
 // D − d is kept above this fraction of D in eq. 8 (occluders next to the light).
 #define SHADOWS_ISG_MIN_GAP 0.05
 // The search's blocker test counts an occluded sample whose penumbra, this many times its

@@ -48,25 +48,20 @@ inline std::array<double, 2> concentric(int k, int grid) {
   return {r * std::cos(phi), r * std::sin(phi)};
 }
 
-// Reduced-resolution reuse (issue 18): bilinear weights of the pixel at (lx, ly) in its
-// workgroup over a grid of points every `step` pixels (`points` a side; point g stands at pixel
-// step·g, clamped at the workgroup's border). Corner k (bit 0: +x, bit 1: +y) is point
-// (qx + (k & 1), qy + (k >> 1)). Step 2 is the grid of 2x2 quads (quad_bilinear), 4 of 4x4
-// blocks. The mirror of isg_grid_bilinear in shaders/isg_sampling.h.
+// Half-resolution reuse (issue 18): bilinear weights of the pixel at (lx, ly) in its workgroup
+// over the workgroup's quads x quads grid of 2x2 quads, quad q standing at its top-left pixel 2q
+// (clamped at the workgroup's border). Corner k (bit 0: +x, bit 1: +y) is quad
+// (qx + (k & 1), qy + (k >> 1)). The mirror of isg_quad_bilinear in shaders/isg_sampling.h.
 struct QuadBilinear {
   int qx, qy;
   double ax, ay;
   double weight(int k) const { return ((k & 1) ? ax : 1.0 - ax) * ((k >> 1) ? ay : 1.0 - ay); }
 };
-inline QuadBilinear grid_bilinear(int lx, int ly, int step, int points) {
-  const double fx = lx / double(step), fy = ly / double(step);
-  const double q0x = std::clamp(std::floor(fx), 0.0, double(points - 2));
-  const double q0y = std::clamp(std::floor(fy), 0.0, double(points - 2));
+inline QuadBilinear quad_bilinear(int lx, int ly, int quads) {
+  const double fx = lx * 0.5, fy = ly * 0.5;
+  const double q0x = std::clamp(std::floor(fx), 0.0, double(quads - 2));
+  const double q0y = std::clamp(std::floor(fy), 0.0, double(quads - 2));
   return {int(q0x), int(q0y), std::clamp(fx - q0x, 0.0, 1.0), std::clamp(fy - q0y, 0.0, 1.0)};
 }
-inline QuadBilinear quad_bilinear(int lx, int ly, int quads) { return grid_bilinear(lx, ly, 2, quads); }
-// The side of a 4x4 block representative's gather lattice: ceil(scale x the gather grid's)
-// (REFL_BLOCK_GRID_SCALE, SHADOWS_ISG_BLOCK_GRID_SCALE).
-inline int block_grid(int grid_gather, double scale) { return int(std::ceil(scale * grid_gather - 1e-9)); }
 
 }  // namespace isg::effects

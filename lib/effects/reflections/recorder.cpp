@@ -47,7 +47,8 @@ class ReflRecorder final : public Recorder {
     out.reports.push_back(r);
     const auto& s = inst.s;
     out.gathers.push_back({frame_[&inst].label, rt.glossy_pixels,
-                           rt.searches * uint64_t(s.grid_search * s.grid_search) + rt.gather_samples});
+                           rt.searches * uint64_t(s.grid_search * s.grid_search) +
+                               rt.gathers * uint64_t(s.grid_gather * s.grid_gather)});
     frame_.erase(&inst);
   }
 

@@ -179,14 +179,14 @@ struct Ctx {
   }
   // Eq. 4: the weighted mean of refl over the lobe, the centre included. Samples are reflected
   // directions placed by the lobe (NDF CDF in θ_h); weight 1/cos θ_h.
-  V3 gather_mean(const Lobe& L, size_t i, const Foot& F, int grid) const {
+  V3 gather_mean(const Lobe& L, size_t i, const Foot& F) const {
     const double alpha = L.alpha;
     const double tm2 = std::tan(F.th_max) * std::tan(F.th_max);
     const double xi_max = tm2 / (alpha * alpha + tm2);
     V3 sum = rgb(in.refl, i);
     double ws = 1.0;
-    for (int k = 0; k < grid * grid; ++k) {
-      V2 c = concentric(k, grid);
+    for (int k = 0; k < s.grid_gather * s.grid_gather; ++k) {
+      V2 c = concentric(k, s.grid_gather);
       const double rho_u = len2(c), xi = xi_max * rho_u * rho_u;
       const double th = std::atan(alpha * std::sqrt(xi / (1.0 - xi)));
       const double f = rho_u > 0 ? F.k_px * std::tan(2.0 * th) / rho_u : 0.0;
@@ -205,16 +205,16 @@ struct Ctx {
     const double al = albedo(L);
     V3 c0 = rgb(in.refl, i);
     if (F.R_s < 0.25) return {al * c0[0], al * c0[1], al * c0[2]};
-    const V3 mean = gather_mean(L, i, F, s.grid_gather);
+    const V3 mean = gather_mean(L, i, F);
     double m = smoothstep(0.25, 0.75, F.R_s);
     V3 out;
     for (int c3 = 0; c3 < 3; ++c3) out[c3] = al * (c0[c3] + (mean[c3] - c0[c3]) * m);
     return out;
   }
 
-  // The search and the wide gathers at reduced resolution (issue 18): one search per 2×2 quad,
+  // The search and the wide gathers at half resolution (issue 18): one search per 2×2 quad,
   // from its first glossy pixel (the representative), and that pixel's gather where its footprint
-  // is at least REFL_REUSE_RADIUS (past REFL_BLOCK_RADIUS, in the quads at even coordinates only); a pixel on another surface than its representative (range
+  // is at least REFL_REUSE_RADIUS; a pixel on another surface than its representative (range
   // weight below REFL_QUAD_SAME) searches for itself. Quads are aligned to even pixels.
   struct Quad {
     bool done = false;
@@ -239,27 +239,19 @@ struct Ctx {
     const Lobe L = lobe(int(Q.rep % in.w), int(Q.rep / in.w), Q.rep);
     Q.t = search(L, Q.rep);
     const Foot F = footprint(L, Q.t);
-    // (The GPU defers the gathers of the quads at odd coordinates past REFL_BLOCK_RADIUS until a
-    // pixel that cannot use the blocks wants them; the means it reads are the same.)
-    // A 4x4 block's quad (even coordinates) past REFL_BLOCK_RADIUS gathers over the denser
-    // block lattice.
-    const bool block = qx % 2 == 0 && qy % 2 == 0 && F.R_s >= REFL_BLOCK_RADIUS;
-    const int grid = block ? block_grid(s.grid_gather, REFL_BLOCK_GRID_SCALE) : s.grid_gather;
-    if (F.R_s >= REFL_REUSE_RADIUS) Q.R_s = F.R_s, Q.mean = gather_mean(L, Q.rep, F, grid);
+    if (F.R_s >= REFL_REUSE_RADIUS) Q.R_s = F.R_s, Q.mean = gather_mean(L, Q.rep, F);
     return Q;
   }
   // A wide lobe's mean, bilinear from the representatives' gathers around the pixel in its
-  // tile's grid of quads (step 2) or 4x4 blocks (step 4: the quads at even coordinates), those
-  // on its surface whose footprint is within REFL_REUSE_RATIO of its own; false where they hold
-  // under REFL_REUSE_COVER of the bilinear weight (blocks: REFL_BLOCK_COVER).
-  bool reuse(int x, int y, const Lobe& L, double R_s, int step, std::vector<Quad>& quads, V3& m) const {
-    const int lx = x % REFL_TILE, ly = y % REFL_TILE, to_quad = step / 2;
-    const QuadBilinear b = grid_bilinear(lx, ly, step, REFL_TILE / step);
+  // tile's quad grid (those on its surface whose footprint is within REFL_REUSE_RATIO of its
+  // own); false where they hold under REFL_REUSE_COVER of the bilinear weight.
+  bool reuse(int x, int y, const Lobe& L, double R_s, std::vector<Quad>& quads, V3& m) const {
+    const int lx = x % REFL_TILE, ly = y % REFL_TILE;
+    const QuadBilinear b = quad_bilinear(lx, ly, REFL_TILE / 2);
     V3 sum{};
     double ws = 0.0;
     for (int k = 0; k < 4; ++k) {
-      const int qx = (x - lx) / 2 + (b.qx + (k & 1)) * to_quad;
-      const int qy = (y - ly) / 2 + (b.qy + (k >> 1)) * to_quad;
+      const int qx = (x - lx) / 2 + b.qx + (k & 1), qy = (y - ly) / 2 + b.qy + (k >> 1);
       const double w = b.weight(k);
       if (w <= 0.0 || 2 * qx >= in.w || 2 * qy >= in.h) continue;
       const Quad& Q = quad(qx, qy, quads);
@@ -269,7 +261,7 @@ struct Ctx {
       ws += w;
     }
     if (ws > 0.0) m = {sum[0] / ws, sum[1] / ws, sum[2] / ws};
-    return ws >= (step == 4 ? REFL_BLOCK_COVER : REFL_REUSE_COVER);
+    return ws >= REFL_REUSE_COVER;
   }
   V3 isg(int x, int y, size_t i, std::vector<Quad>& quads) const {
     const Lobe L = lobe(x, y, i);
@@ -277,8 +269,7 @@ struct Ctx {
     const bool same = Q.rep == i || range(Q.rep, L.P0, L.N0) >= REFL_QUAD_SAME;
     const Foot F = footprint(L, same ? Q.t : search(L, i));
     V3 m{};
-    if ((F.R_s >= REFL_BLOCK_RADIUS && reuse(x, y, L, F.R_s, 4, quads, m)) ||
-        (F.R_s >= REFL_REUSE_RADIUS && reuse(x, y, L, F.R_s, 2, quads, m))) {
+    if (F.R_s >= REFL_REUSE_RADIUS && reuse(x, y, L, F.R_s, quads, m)) {
       const double al = albedo(L);
       return {al * m[0], al * m[1], al * m[2]};
     }
@@ -321,11 +312,11 @@ std::vector<float> reflections_reference(const ReflInputs& in, const ReflSetting
 }
 
 namespace {
-// The search, gather and block-gather lattices as (x, y, |c|, |c|²): the concentric map
-// evaluated once on the host rather than per tap.
+// The search lattice then the gather lattice as (x, y, |c|, |c|²): the concentric map evaluated
+// once on the host rather than per tap.
 std::vector<float> sample_table(int grid_search, int grid_gather) {
   std::vector<float> t;
-  for (int grid : {grid_search, grid_gather, block_grid(grid_gather, REFL_BLOCK_GRID_SCALE)}) {
+  for (int grid : {grid_search, grid_gather}) {
     for (int k = 0; k < grid * grid; ++k) {
       const auto c = concentric(k, grid);
       const double r2 = c[0] * c[0] + c[1] * c[1];
@@ -356,8 +347,7 @@ shaders::ReflIsgPush ReflectionsPass::push(uint32_t w, uint32_t h, bool has_posi
   shaders::ReflIsgPush pc{};
   pc.width = w;
   pc.height = h;
-  pc.grids = uint32_t(s_.grid_search) | (uint32_t(s_.grid_gather) << 8) |
-             (uint32_t(block_grid(s_.grid_gather, REFL_BLOCK_GRID_SCALE)) << 16);
+  pc.grids = uint32_t(s_.grid_search) | (uint32_t(s_.grid_gather) << 16);
   pc.origin = s_.window.packed_origin();
   pc.cx = float(s_.window.cx(int(w)));
   pc.cy = float(s_.window.cy(int(h)));
@@ -414,7 +404,7 @@ ReflTileStats ReflectionsPass::stats(const gpu::Buffer& tiles, uint32_t w, uint3
   auto t = tiles.download_as<float>(2 * size_t(nt));
   ReflTileStats st;
   size_t k = 0;
-  for (uint32_t j = nt; j < 2 * nt; ++j) st.gather_samples += uint64_t(t[j]);
+  for (uint32_t j = nt; j < 2 * nt; ++j) st.gathers += uint64_t(t[j]);
   t.resize(nt);
   for (float v : t) {
     k += v > 0.0f ? 1 : 0;

@@ -44,8 +44,7 @@ struct ReflTileStats {
   double skipped_fraction = 0;  // tiles with nothing glossy
   uint64_t glossy_pixels = 0;   // pixels that gathered
   uint64_t searches = 0;        // parameter searches run (one per quad, more at edges)
-  uint64_t gather_samples = 0;  // samples the gathers took (one gather per quad or 4x4 block for
-                                // wide lobes, more at edges)
+  uint64_t gathers = 0;         // gathers run (one per quad for wide lobes, more at edges)
 };
 
 // reflections.pack (the taps' data in two 16-byte texels a pixel) then reflections.isg.

@@ -226,15 +226,13 @@ std::vector<float> shadows_isg_reference(const ShadowInputs& in, const ShadowSet
       };
       // Gather (eq. 4): uniform over the points within R_s of p_0 across the light direction
       // (the penumbra's footprint on the receiver).
-      // `grid`: the gather's lattice side (a 4x4 block's representative: the denser block grid).
-      auto gather = [&](int x, int y, const Recv& R, double Rs, double Rg, int grid) {
+      auto gather = [&](int x, int y, const Recv& R, double Rs, double Rg) {
         const size_t i = size_t(y) * in.w + x;
         const V2 p0 = {x + 0.5, y + 0.5}, cs_ = rotation(x, y);
         const double ca = cs_[0], sa = cs_[1];
         double sum = in.shadow[i], ws = 1.0;
-        st.gather_samples += uint64_t(grid) * uint64_t(grid);
-        for (int k = 0; k < grid * grid; ++k) {
-          const V2 cs = concentric(k, grid);
+        for (int k = 0; k < s.grid_gather * s.grid_gather; ++k) {
+          const V2 cs = concentric(k, s.grid_gather);
           const V2 q = {p0[0] + Rg * (ca * cs[0] - sa * cs[1]), p0[1] + Rg * (sa * cs[0] + ca * cs[1])};
           size_t t[4];
           double bw[4];
@@ -250,55 +248,42 @@ std::vector<float> shadows_isg_reference(const ShadowInputs& in, const ShadowSet
         }
         return sum / ws;
       };
-      // The search and the wide gathers at reduced resolution (issue 18): per 2×2 quad of the
-      // tile, its first foreground pixel (the representative) searches, and gathers where its R_g
-      // is at least SHADOWS_ISG_REUSE_RADIUS: past SHADOWS_ISG_BLOCK_RADIUS at once only in the
-      // quads at even coordinates (the 4x4 blocks, over the denser block lattice), in the others
-      // when a pixel that cannot use the blocks wants it (as the GPU's steps 1-4).
+      // The search and the wide gathers at half resolution (issue 18): per 2×2 quad of the tile,
+      // its first foreground pixel (the representative) searches, and gathers where its R_g is at
+      // least SHADOWS_ISG_REUSE_RADIUS.
       constexpr int kQuads = kTile / 2;
-      const int block_grid_side = block_grid(s.grid_gather, SHADOWS_ISG_BLOCK_GRID_SCALE);
       struct Quad {
         size_t rep = size_t(-1);
-        int rx = 0, ry = 0;
         double d = -1.0, g = 0.0, Rg = -1.0;
-        bool pending = false, need = false;
       };
       std::array<Quad, kQuads * kQuads> quads{};
       for (int qy = 0; qy < kQuads; ++qy)
         for (int qx = 0; qx < kQuads; ++qx) {
           Quad& Q = quads[size_t(qy) * kQuads + qx];
+          int rx = 0, ry = 0;
           for (int k = 0; k < 4 && Q.rep == size_t(-1); ++k) {
             const int px = x0 + 2 * qx + (k & 1), py = y0 + 2 * qy + (k >> 1);
-            if (px < in.w && py < in.h && c.fg(size_t(py) * in.w + px)) Q.rep = size_t(py) * in.w + px, Q.rx = px, Q.ry = py;
+            if (px < in.w && py < in.h && c.fg(size_t(py) * in.w + px)) Q.rep = size_t(py) * in.w + px, rx = px, ry = py;
           }
           if (Q.rep == size_t(-1)) continue;
-          const Recv R = receiver(Q.rx, Q.ry);
-          Q.d = search(Q.rx, Q.ry, R, std::min(search_radius(R), s.max_radius));
+          const Recv R = receiver(rx, ry);
+          Q.d = search(rx, ry, R, std::min(search_radius(R), s.max_radius));
           ++st.searches;
           if (Q.d < 0.0) continue;
           const double Rs = c.penumbra(Q.d, R.D), Rg = std::min(Rs / R.pix, s.max_radius);
-          const bool block = qx % 2 == 0 && qy % 2 == 0;
-          if (Rg < SHADOWS_ISG_REUSE_RADIUS) continue;
-          if (block || Rg < SHADOWS_ISG_BLOCK_RADIUS) {
-            const bool dense = block && Rg >= SHADOWS_ISG_BLOCK_RADIUS;
-            Q.Rg = Rg, Q.g = gather(Q.rx, Q.ry, R, Rs, Rg, dense ? block_grid_side : s.grid_gather);
-          } else {
-            Q.pending = true;
-          }
+          if (Rg >= SHADOWS_ISG_REUSE_RADIUS) Q.Rg = Rg, Q.g = gather(rx, ry, R, Rs, Rg), ++st.gathers;
         }
       auto same_surface = [&](size_t r, V3 P0) {
         return c.range_l(len3(sub(c.position(r), P0))) >= SHADOWS_ISG_QUAD_SAME;
       };
       // A wide penumbra's gather, bilinear from the representatives' around the pixel in the
-      // tile's grid of quads (step 2) or 4x4 blocks (step 4), those on its surface with R_g within
-      // SHADOWS_ISG_REUSE_RATIO of its own; false where they hold under SHADOWS_ISG_REUSE_COVER
-      // (blocks: SHADOWS_ISG_BLOCK_COVER) of the bilinear weight.
-      auto reuse = [&](int x, int y, V3 P0, double Rg, int step, double& m) {
-        const QuadBilinear b = grid_bilinear(x - x0, y - y0, step, kTile / step);
-        const int to_quad = step / 2;
+      // tile's quad grid (on its surface, R_g within SHADOWS_ISG_REUSE_RATIO of its own); false
+      // where they hold under SHADOWS_ISG_REUSE_COVER of the bilinear weight.
+      auto reuse = [&](int x, int y, V3 P0, double Rg, double& m) {
+        const QuadBilinear b = quad_bilinear(x - x0, y - y0, kQuads);
         double sum = 0.0, ws = 0.0;
         for (int k = 0; k < 4; ++k) {
-          const Quad& Q = quads[size_t((b.qy + (k >> 1)) * to_quad) * kQuads + size_t((b.qx + (k & 1)) * to_quad)];
+          const Quad& Q = quads[size_t(b.qy + (k >> 1)) * kQuads + size_t(b.qx + (k & 1))];
           const double w = b.weight(k);
           if (w <= 0.0 || Q.Rg < 0.0 || Q.Rg * SHADOWS_ISG_REUSE_RATIO < Rg || Rg * SHADOWS_ISG_REUSE_RATIO < Q.Rg) continue;
           if (!same_surface(Q.rep, P0)) continue;
@@ -306,15 +291,8 @@ std::vector<float> shadows_isg_reference(const ShadowInputs& in, const ShadowSet
           ws += w;
         }
         m = ws > 0.0 ? sum / ws : 0.0;
-        return ws >= (step == 4 ? SHADOWS_ISG_BLOCK_COVER : SHADOWS_ISG_REUSE_COVER);
+        return ws >= SHADOWS_ISG_REUSE_COVER;
       };
-      // Pixels that still need the quads' gathers or their own (step 4), with their radii.
-      struct Todo {
-        int x, y;
-        Recv R;
-        double Rs, Rg;
-      };
-      std::vector<Todo> todo;
       for (int y = y0; y < y1; ++y) {
         for (int x = x0; x < x1; ++x) {
           const size_t i = size_t(y) * in.w + x;
@@ -334,33 +312,14 @@ std::vector<float> shadows_isg_reference(const ShadowInputs& in, const ShadowSet
             clamped = clamped || Rg_raw > s.max_radius;
             const double Rg = std::min(Rg_raw, s.max_radius);
             double m = 0.0;
-            if (Rg >= SHADOWS_ISG_BLOCK_RADIUS && reuse(x, y, R.P0, Rg, 4, m)) {
+            if (Rg >= SHADOWS_ISG_REUSE_RADIUS && reuse(x, y, R.P0, Rg, m)) {
               out[i] = float(m);
             } else {
-              if (Rg >= SHADOWS_ISG_REUSE_RADIUS) {
-                const QuadBilinear b = quad_bilinear(x - x0, y - y0, kQuads);
-                for (int k = 0; k < 4; ++k)
-                  if (b.weight(k) > 0.0) quads[size_t(b.qy + (k >> 1)) * kQuads + size_t(b.qx + (k & 1))].need = true;
-              }
-              todo.push_back({x, y, R, Rs, Rg});
+              out[i] = float(gather(x, y, R, Rs, Rg));
+              ++st.gathers;
             }
           }
           if (clamped) ++st.clamped_pixels;
-        }
-      }
-      for (Quad& Q : quads) {
-        if (!Q.pending || !Q.need) continue;
-        const Recv R = receiver(Q.rx, Q.ry);
-        const double Rs = c.penumbra(Q.d, R.D), Rg = std::min(Rs / R.pix, s.max_radius);
-        Q.Rg = Rg, Q.g = gather(Q.rx, Q.ry, R, Rs, Rg, s.grid_gather);
-      }
-      for (const Todo& t : todo) {
-        double m = 0.0;
-        const size_t i = size_t(t.y) * in.w + t.x;
-        if (t.Rg >= SHADOWS_ISG_REUSE_RADIUS && reuse(t.x, t.y, t.R.P0, t.Rg, 2, m)) {
-          out[i] = float(m);
-        } else {
-          out[i] = float(gather(t.x, t.y, t.R, t.Rs, t.Rg, s.grid_gather));
         }
       }
     }
@@ -380,14 +339,14 @@ ShadowsIsgPass::ShadowsIsgPass(gpu::Context& ctx)
 
 ShadowsIsgPass::~ShadowsIsgPass() = default;
 
-// The search, gather and block-gather lattices, (x, y) on the unit disk: the concentric map
+// The search lattice then the gather lattice, (x, y) on the unit disk: the concentric map
 // evaluated once on the host rather than per tap. One table per pair of grids, kept for the
 // pass's life (a sequence may still read an earlier light's).
 const gpu::Buffer& ShadowsIsgPass::samples(int grid_search, int grid_gather) {
   auto& b = samples_[{grid_search, grid_gather}];
   if (!b) {
     std::vector<float> t;
-    for (int grid : {grid_search, grid_gather, block_grid(grid_gather, SHADOWS_ISG_BLOCK_GRID_SCALE)})
+    for (int grid : {grid_search, grid_gather})
       for (int k = 0; k < grid * grid; ++k) {
         const auto c = concentric(k, grid);
         t.push_back(float(c[0]));
@@ -407,8 +366,7 @@ void ShadowsIsgPass::record(gpu::Sequence& seq, const ShadowSettings& s, const g
   shaders::ShadowsIsgPush pc{};
   pc.width = w;
   pc.height = h;
-  pc.grids = uint32_t(s.grid_search) | (uint32_t(s.grid_gather) << 8) |
-             (uint32_t(block_grid(s.grid_gather, SHADOWS_ISG_BLOCK_GRID_SCALE)) << 16);
+  pc.grids = uint32_t(s.grid_search) | (uint32_t(s.grid_gather) << 16);
   pc.origin = s.window.packed_origin();
   pc.cx = float(s.window.cx(int(w)));
   pc.cy = float(s.window.cy(int(h)));
@@ -471,7 +429,7 @@ ShadowIsgStats ShadowsIsgPass::stats(const gpu::Buffer& tiles, uint32_t w, uint3
   st.clamped_pixels = t[3 * nt + SHADOWS_ISG_STAT_CLAMPED];
   st.full_pixels = t[3 * nt + SHADOWS_ISG_STAT_FULL];
   st.searches = t[3 * nt + SHADOWS_ISG_STAT_SEARCHES];
-  st.gather_samples = t[3 * nt + SHADOWS_ISG_STAT_GATHERS];
+  st.gathers = t[3 * nt + SHADOWS_ISG_STAT_GATHERS];
   return st;
 }
 

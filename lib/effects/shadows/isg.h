@@ -39,8 +39,7 @@ struct ShadowIsgStats {
   double skipped_fraction = 0;  // tiles that took the cheap path
   uint64_t full_pixels = 0;     // pixels that ran the search and gather
   uint64_t searches = 0;        // parameter searches (one per 2x2 quad, more at edges)
-  uint64_t gather_samples = 0;  // samples the gathers took (one gather per quad or 4x4 block for
-                                // wide penumbrae, more at edges)
+  uint64_t gathers = 0;         // gathers (one per quad for wide penumbrae, more at edges)
   uint64_t clamped_pixels = 0;  // pixels whose search or gather radius exceeded max_radius
   double d_max = 0;             // the largest occluder distance
 };

@@ -75,7 +75,8 @@ class ShadowsRecorder final : public Recorder {
       out.reports.push_back(r);
       const auto& s = *inst.isg;
       out.gathers.push_back({f.isg_label, t.full_pixels,
-                             t.searches * uint64_t(s.grid_search * s.grid_search) + t.gather_samples});
+                             t.searches * uint64_t(s.grid_search * s.grid_search) +
+                                 t.gathers * uint64_t(s.grid_gather * s.grid_gather)});
     }
   }
 
