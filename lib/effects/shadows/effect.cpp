@@ -70,7 +70,9 @@ class Shadows final : public Effect {
        "texels"),
       params::def(shadow_keys::slope_max, "4", 0, 1e3,
        "shadow-map methods: the receiver-plane depth may differ from the receiver's by at "
-       "most this many texel footprints per texel of lateral offset (grazing-angle clamp)"),
+       "most this many texel footprints per texel of lateral offset (grazing-angle clamp); where "
+       "the screen neighbours show a smooth receiver, the plane is trusted up to 64 (89 degrees "
+       "from the normal)"),
       params::def(shadow_keys::spread_bias, "2", 0, 100,
        "shadow-map methods: extra depth bias, times the smallest light-depth step from the "
        "pixel to a screen neighbour (large where P blends two surfaces at a silhouette)"),
