@@ -57,8 +57,6 @@ vec4 sm_receiver_plane(uvec2 px, vec3 q, vec3 P, out bool back) {
     vec3 bd = vec3(0.0), bt = vec3(0.0);
     has_other[axis] = false;
     other[axis] = vec3(0.0);
-    vec3 cand[2];
-    int nc = 0;
     for (int s = -1; s <= 1; s += 2) {
       ivec2 nb = ivec2(px) + (axis == 0 ? ivec2(s, 0) : ivec2(0, s));
       if (nb.x < 0 || nb.y < 0 || nb.x >= int(p.width) || nb.y >= int(p.height)) continue;
@@ -70,13 +68,13 @@ vec4 sm_receiver_plane(uvec2 px, vec3 q, vec3 P, out bool back) {
       float dz = abs(qn.z - q.z);
       vec3 dn = vec3(qn.xy - q.xy, 1.0 / qn.z - 1.0 / q.z);
       if (dz < best) {
-        if (best < 1e30) cand[nc++] = bd;
+        if (best < 1e30) { other[axis] = bd; has_other[axis] = true; }
         best = dz; bd = dn; bt = Pn - P;
       } else {
-        cand[nc++] = dn;
+        other[axis] = dn;
+        has_other[axis] = true;
       }
     }
-    if (nc > 0) { other[axis] = cand[0]; has_other[axis] = true; }
     if (best < 1e30) { t[found] = bt; d[found++] = bd; }
     spread = min(spread, best);
   }
