@@ -111,6 +111,22 @@ float sm_threshold(vec3 q, vec4 g, vec2 c, float texel_world) {
   return zc - p.bias * texel_world - p.spread_bias * g.z;
 }
 
+// Bounds of the receiver's threshold (sm_threshold) over [lo, hi): the receiver plane's depth is
+// monotone along lines (1/z is linear), so its extremes are at the corners; the clamp to
+// q.z ± g.w·tw·|o| (the plane's slope bound) is bounded by the farthest corner.
+vec2 sm_threshold_range(vec3 q, vec4 g, vec2 lo, vec2 hi, float tw) {
+  float zmin = 1e30, zmax = -1e30, far = 0.0;
+  for (int k = 0; k < 4; ++k) {
+    vec2 o = vec2((k & 1) != 0 ? hi.x : lo.x, (k & 2) != 0 ? hi.y : lo.y) - q.xy;
+    float iz = 1.0 / q.z + dot(g.xy, o);
+    float zc = iz > 0.0 ? 1.0 / iz : 1e30;
+    zmin = min(zmin, zc);
+    zmax = max(zmax, zc);
+    far = max(far, length(o));
+  }
+  float lim = g.w * tw * far, b = p.bias * tw + p.spread_bias * g.z;
+  return vec2(max(q.z - lim, min(zmin, q.z)), min(q.z + lim, max(q.z, zmax))) - b;
+}
 float sm_fetch(vec2 c) {
   return smap[uint(c.y) * p.map_w + uint(c.x)];
 }

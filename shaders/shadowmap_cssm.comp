@@ -5,7 +5,9 @@
 // CSSM shading (thesis §5.2-5.3, Fig. 5.4): a box blocker search as wide as PCSS's, the
 // average blocker depth from the prefiltered CSM and CSM-Z images (eq. 5.8, 5.11), the
 // penumbra width from it, one prefiltered CSM lookup over that width (eq. 5.3, 5.10), ringing
-// suppression (§5.2.3) and sharpening (eq. 5.9). Mirrors cssm_reference (cssm.cpp).
+// suppression (§5.2.3) and sharpening (eq. 5.9); each lookup split into sub-kernels with the
+// receiver's depth at their centres where the receiver plane's depth changes across it (see
+// cssm.cpp). Mirrors cssm_reference (cssm.cpp).
 layout(local_size_x = SHADOWMAP_LOCAL, local_size_y = SHADOWMAP_LOCAL) in;
 layout(std430, binding = 0) readonly buffer Prm { ShadowmapParams p; };
 layout(std430, binding = 1) readonly buffer Cprm { CssmParams c; };
@@ -26,6 +28,7 @@ struct Kern {
   ivec4 X, Y;     // SAT: corner columns / rows X0, X0 + 1, X1, X1 + 1 (clamped to the map)
   vec3 wx, wy;    // SAT: weights of the span [X0, X1), the cell X0, the cell X1
   float inv;      // SAT: 1 / (fixed-point scale · clipped area)
+  float area;     // the clipped area, block units²
   uint b0, b1;    // mip: first element of the two levels within a layer
   uvec4 i0, i1;   // mip: bilinear texels within each level's layer
   vec4 w0, w1;    // mip: their weights (the level blend included)
@@ -52,17 +55,19 @@ void kern_level(vec2 q, uint l, float wl, out uint b, out uvec4 idx, out vec4 wt
   wt = wl * vec4((1.0 - f.x) * (1.0 - f.y), f.x * (1.0 - f.y), (1.0 - f.x) * f.y, f.x * f.y);
 }
 
-// q, h in map texels.
-Kern make_kern(vec2 q, float h) {
+// A box of half-widths h about q, both in map texels.
+Kern make_kern(vec2 q, vec2 h) {
   Kern K;
   float lx, ly, f = float(1u << c.basis_shift);
   q /= f;
   h /= f;
-  kern_axis(q.x, h, float(p.map_w) / f, c.level_w[0], K.X, K.wx, lx);
-  kern_axis(q.y, h, float(p.map_h) / f, c.level_h[0], K.Y, K.wy, ly);
+  kern_axis(q.x, h.x, float(p.map_w) / f, c.level_w[0], K.X, K.wx, lx);
+  kern_axis(q.y, h.y, float(p.map_h) / f, c.level_h[0], K.Y, K.wy, ly);
   K.inv = 1.0 / (c.sat_scale * lx * ly);
-  // Mip level whose texel spans the kernel width 2h; linear between levels.
-  float lev = clamp(log2(2.0 * h), 0.0, float(c.levels - 1u));
+  K.area = lx > 0.0 && ly > 0.0 ? lx * ly : 0.0;
+  // Mip level whose texel spans the kernel width 2h (of a rectangle, the square of its area);
+  // linear between levels.
+  float lev = clamp(log2(2.0 * (h.x == h.y ? h.x : sqrt(h.x * h.y))), 0.0, float(c.levels - 1u));
   uint l0 = uint(floor(lev)), l1 = min(l0 + 1u, c.levels - 1u);
   float t = lev - float(l0);
   kern_level(q, l0, 1.0 - t, K.b0, K.i0, K.w0);
@@ -123,17 +128,51 @@ float cssm_box(uint layer, Kern K) {
   return dot(K.w0, v0) + dot(K.w1, v1);
 }
 
-// Prefiltered CSM (eq. 5.3 with the expansion of eq. 5.10, f = 1 − f̄) at shifted receiver
-// argument delta: the raw (unclamped) filtered visibility s_f.
-float cssm_visibility(Kern K, float delta) {
-  float s = 0.5;
+// The raw filtered visibility s_f of kernel K against the normalised receiver depth dn (eq. 5.3,
+// 5.10); with csm_z, CSM-Z's numerator w * (f̄ z) instead (eq. 5.11:
+// (w * z)/2 + Σ 2/c_k [sin(c_k δ)(w * z cos) − cos(c_k δ)(w * z sin)]).
+float cssm_lookup(Kern K, float dn, bool csm_z) {
+  float delta = c.s_z * dn - c.x0;
+  float v = csm_z ? 0.5 * cssm_box(4u * c.order, K) : 0.5;
+  uint base = csm_z ? 2u * c.order : 0u;
   for (uint k = 0u; k < c.order; ++k) {
     float m = float(2u * k + 1u);
     vec2 cs = cssm_cis(m, delta);
-    s -= 2.0 / (3.14159265358979 * m) *
-         (cs.y * cssm_box(k, K) - cs.x * cssm_box(c.order + k, K));
+    float t = 2.0 / (3.14159265358979 * m) *
+              (cs.y * cssm_box(base + k, K) - cs.x * cssm_box(base + c.order + k, K));
+    v += csm_z ? t : -t;
   }
-  return s;
+  return v;
+}
+
+// Sub-kernels along one axis: the receiver-plane threshold's range over the kernel's extent
+// along it (lo, hi through q), in units of the step shift x0, rounded up, in [1, max_split];
+// 1 where the neighbours do not confirm the plane (not extrapolated).
+uint cssm_split(vec3 q, vec4 g, float tw, vec2 lo, vec2 hi) {
+  if (g.w < SHADOWMAP_TRUSTED_SLOPE) return 1u;
+  vec2 tr = sm_threshold_range(q, g, lo, hi, tw);
+  float r = c.s_z * (tr.y - tr.x) / c.zrange / c.x0;
+  return r > float(c.max_split) ? c.max_split : (r > 1.0 ? uint(ceil(r)) : 1u);
+}
+
+// The same over half-width h about the receiver q, split into nx x ny sub-kernels each
+// against the receiver's depth at its centre (cssm.cpp). d: the pixel's own (nx = ny = 1).
+float cssm_filtered(vec3 q, vec4 g, float tw, float h, float d, bool csm_z) {
+  uint nx = cssm_split(q, g, tw, vec2(q.x - h, q.y), vec2(q.x + h, q.y));
+  uint ny = cssm_split(q, g, tw, vec2(q.x, q.y - h), vec2(q.x, q.y + h));
+  if (nx * ny == 1u) return cssm_lookup(make_kern(q.xy, vec2(h)), d, csm_z);
+  vec2 sh = vec2(h / float(nx), h / float(ny));
+  float sum = 0.0, area = 0.0;
+  for (uint j = 0u; j < ny; ++j)
+    for (uint i = 0u; i < nx; ++i) {
+      vec2 b = q.xy - h + vec2(float(2u * i + 1u), float(2u * j + 1u)) * sh;
+      Kern K = make_kern(b, sh);
+      if (K.area <= 0.0) continue;
+      float dn = clamp((sm_threshold(q, g, b, tw) - c.zmin) / c.zrange, 0.0, 1.0);
+      sum += K.area * cssm_lookup(K, dn, csm_z);
+      area += K.area;
+    }
+  return area > 0.0 ? sum / area : cssm_lookup(make_kern(q.xy, vec2(h)), d, csm_z);
 }
 
 // Ringing suppression (§5.2.3, Fig. 5.2c-d): scale about 1/2, then clamp.
@@ -156,32 +195,22 @@ void main() {
   // Receiver depth d: the biased receiver-plane threshold at its own texel centre, normalised.
   vec2 cc = floor(q.xy) + 0.5;
   float d = clamp((sm_threshold(q, g, cc, texel_world) - c.zmin) / c.zrange, 0.0, 1.0);
-  float delta = c.s_z * d - c.x0;
   // Blocker search (Fig. 5.1a): PCSS's disk as a box of the same area, at least one texel.
   float rs = min(k * max(1.0 / p.min_depth - 1.0 / q.z, 0.0), p.max_radius);
-  Kern K = make_kern(q.xy, max(0.886226925 * rs, 0.5));
-  float s_f = 0.0, num = 0.0;
-  s_f = cssm_visibility(K, delta);
+  float hs = max(0.886226925 * rs, 0.5);
+  float s_f = cssm_filtered(q, g, texel_world, hs, d, false);
   if (cssm_suppress(s_f) >= 1.0 || 1.0 - s_f < 1e-3) {
     atomicAdd(stats[SHADOWMAP_STAT_SKIPPED], 1u);  // no blockers: fully lit
     soft[i] = 1.0;
     return;
   }
-  // CSM-Z (eq. 5.11): w * (f̄ z) = (w * z)/2 + Σ 2/c_k [sin(c_k δ)(w * z cos) − cos(c_k δ)(w * z sin)].
-  num = 0.5 * cssm_box(4u * c.order, K);
-  for (uint j = 0u; j < c.order; ++j) {
-    float m = float(2u * j + 1u);
-    vec2 cs = cssm_cis(m, delta);
-    num += 2.0 / (3.14159265358979 * m) *
-           (cs.y * cssm_box(2u * c.order + j, K) - cs.x * cssm_box(3u * c.order + j, K));
-  }
+  float num = cssm_filtered(q, g, texel_world, hs, d, true);  // CSM-Z (eq. 5.11)
   float z_avg = clamp(num / (1.0 - s_f), 0.0, d);  // eq. 5.8
   float zb = c.zmin + z_avg * c.zrange;
   // Penumbra width (§5.3.1): rf = k (1/z_avg − 1/d).
   float rf = k * max(1.0 / zb - 1.0 / q.z, 0.0);
   if (rf > p.max_radius) { rf = p.max_radius; atomicAdd(stats[SHADOWMAP_STAT_CLAMPED], 1u); }
-  K = make_kern(q.xy, max(0.886226925 * rf, 0.5));
-  float v = cssm_suppress(cssm_visibility(K, delta));
+  float v = cssm_suppress(cssm_filtered(q, g, texel_world, max(0.886226925 * rf, 0.5), d, false));
   float pw = 1.0 + c.sharpen_a * exp(-c.sharpen_b * (d - z_avg));  // eq. 5.9
   soft[i] = pow(v, pw);
 }

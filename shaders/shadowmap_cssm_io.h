@@ -26,6 +26,7 @@ struct CssmParams {
   float sat_scale;                     // SAT fixed point: integer units per unit of value
   uint chunk_layers, layer_elems;      // layers a buffer, uints a layer
   uint basis_shift;                    // basis texels are 2^basis_shift map texels a side
+  uint max_split;                      // shadows.cssm_split: most sub-kernels a side
   uint level_w[CSSM_MAX_LEVELS], level_h[CSSM_MAX_LEVELS];
   uint level_off[CSSM_MAX_LEVELS];  // first element of each mip level within a layer
 };

@@ -130,25 +130,9 @@ void square(vec3 q, float r, out vec2 lo, out vec2 hi) {
   hi = min(q.xy + r, vec2(p.map_w, p.map_h));
 }
 
-// Bounds of the receiver's threshold (sm_threshold) over [lo, hi): the receiver plane's depth is
-// monotone along lines (1/z is linear), so its extremes are at the corners; the clamp to
-// q.z ± g.w·tw·|o| (the plane's slope bound) is bounded by the farthest corner.
-vec2 threshold_range(vec3 q, vec4 g, vec2 lo, vec2 hi, float tw) {
-  float zmin = 1e30, zmax = -1e30, far = 0.0;
-  for (int k = 0; k < 4; ++k) {
-    vec2 o = vec2((k & 1) != 0 ? hi.x : lo.x, (k & 2) != 0 ? hi.y : lo.y) - q.xy;
-    float iz = 1.0 / q.z + dot(g.xy, o);
-    float zc = iz > 0.0 ? 1.0 / iz : 1e30;
-    zmin = min(zmin, zc);
-    zmax = max(zmax, zc);
-    far = max(far, length(o));
-  }
-  float lim = g.w * tw * far, b = p.bias * tw + p.spread_bias * g.z;
-  return vec2(max(q.z - lim, min(zmin, q.z)), min(q.z + lim, max(q.z, zmax))) - b;
-}
 // The HSM's verdict on a sub-kernel: 1 all lit, -1 all blocked, 0 neither.
 int hsm_verdict(vec3 q, vec4 g, vec2 lo, vec2 hi, float tw) {
-  vec2 zr = hsm_range(lo, hi), tr = threshold_range(q, g, lo, hi, tw);
+  vec2 zr = hsm_range(lo, hi), tr = sm_threshold_range(q, g, lo, hi, tw);
   return zr.x >= tr.y ? 1 : (zr.y < tr.x ? -1 : 0);
 }
 
@@ -164,6 +148,9 @@ void main() {
   bool back;
   vec4 g = sm_receiver_plane(px, q, P, back);
   if (back) { atomicAdd(stats[SHADOWMAP_STAT_SKIPPED], 1u); soft[i] = hard[i]; return; }
+  // A receiver beyond the map's farthest surface (far_z, where the background stands in the
+  // SATs and the HSM) is shaded as lying on it: else the background would block it.
+  q.z = min(q.z, v.far_z);
   float tw = 2.0 * q.z * p.tan_y / float(p.map_h);
   float k = p.light_radius * float(p.map_h) / (2.0 * p.tan_y);
   float rs = min(k * max(1.0 / p.min_depth - 1.0 / q.z, 0.0), p.max_radius);

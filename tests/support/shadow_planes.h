@@ -18,17 +18,21 @@ namespace fx = isg::effects;
 inline constexpr double kPi = 3.14159265358979323846;
 
 // The light at the origin looking down -Z (world_to_light = identity), 90° map. An occluder
-// half-plane x < 0 at depth d_o; the receiver z = -(z_r + slope·x) (slope 0: parallel planes).
+// half-plane x < 0 at depth d_o (none where d_o <= 0); the receiver z = -(z_r + slope·x) (slope
+// 0: parallel planes).
 struct Planes {
   double d_o = 2.0, z_r = 4.0, slope = 0.0, R = 0.2;
+  double far = 1e3;  // the receiver plane ends at this depth (a sloped one; background beyond)
   int map = 256, w = 96, h = 96;
   fx::ShadowmapData shadowmap() const {
     std::vector<float> z(size_t(map) * map);
     for (int j = 0; j < map; ++j)
       for (int i = 0; i < map; ++i) {
         double a = 2.0 * (i + 0.5) / map - 1.0;  // x/z at the texel centre (tan 45° = 1)
-        double s = z_r / (1.0 + slope * a);     // the receiver's planar depth along that ray
-        z[size_t(j) * map + i] = float(a < 0.0 ? d_o : s);
+        // The receiver's depth along that ray: z = z_r + slope·a·z; rays that miss it see
+        // background (1e30, as a renderer writes it).
+        double den = 1.0 - slope * a;
+        z[size_t(j) * map + i] = float(a < 0.0 && d_o > 0.0 ? d_o : (den > z_r / far ? z_r / den : 1e30));
       }
     return fx::make_shadowmap(map, map, std::move(z));
   }

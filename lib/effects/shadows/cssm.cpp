@@ -23,6 +23,23 @@
 //   √π/2 · r), at least one texel wide, clipped to the map: SAT integrates the texel-constant
 //   basis exactly over the fractional box; mipmaps sample the level whose texel spans the box
 //   (bilinear, linear between levels, clamp to edge).
+// - Receiver depth per sub-kernel (issue 19; the thesis takes one d per pixel, which a receiver
+//   whose light depth changes across the kernel cannot have: at grazing light the receiver's own
+//   texels on the light's side of the pixel lie in front of d and shadow it). A lookup over
+//   half-width h is split into nx x ny sub-kernels, n = ⌈s_z Δ / (zrange x0)⌉ clamped to
+//   [1, shadows.cssm_split] per axis, Δ the range of the receiver-plane threshold over the
+//   kernel's extent along that axis through the pixel (Geom::threshold_range): within a
+//   sub-kernel the threshold then moves by about the step shift x0 that keeps an unoccluded
+//   receiver lit, and a receiver sloped along one axis is split only along it. Only a plane
+//   the screen neighbours confirm (sm_receiver_plane's trusted bound) is extrapolated so;
+//   elsewhere n = 1. Each sub-kernel is tested against the receiver's threshold at its centre.
+//   Where the cap binds, a sub-kernel spans more than x0 and the receiver's texels in its
+//   nearer half still shadow it in part: on the Cycles case `grazing` that leaves 3 % of the lit
+//   floor too dark against 33 % with n = 1. Testing each sub-kernel against its nearest depth
+//   instead (plus half the lead) keeps such a receiver lit but lets the blockers within the
+//   sub-kernel's span leak: measured worse on grazing (RMSE 0.125 against 0.070) and lowlight
+//   (0.270 against 0.108), so the centre it is. The sums are weighted by each sub-kernel's
+//   area inside the map. n = 1 is the thesis's lookup, with d at the pixel's own texel centre.
 // - Basis resolution: a map larger than shadows.cssm_max_basis a side is averaged in f x f
 //   blocks (f = 2^shift, the smallest that fits; edge blocks average the texels they cover)
 //   before prefiltering. The basis is linear in the texels, so each block holds exactly the box
@@ -45,6 +62,7 @@ namespace isg::effects {
 using detail::Geom;
 using detail::kPi;
 using detail::Plane;
+using detail::V2;
 using detail::V3;
 
 namespace {
@@ -68,6 +86,7 @@ struct Setup {
   int M = 4;
   bool sat = true;
   int shift = 0, bw = 0, bh = 0;  // basis blocks of 2^shift texels a side; basis size
+  int split = 1;                  // most sub-kernels a side (shadows.cssm_split)
   double alpha = 1.0, x0 = 0.0, s_z = 1.0, zmin = 0.0, zrange = 1.0;
 };
 
@@ -79,6 +98,8 @@ Setup make_setup(const ShadowmapData& map, const ShadowmapSettings& s) {
     throw std::invalid_argument("shadows.cssm_filter must be sat or mipmap");
   u.sat = s.cssm_filter == "sat";
   if (s.cssm_max_basis < 1) throw std::invalid_argument("shadows.cssm_max_basis out of range");
+  if (s.cssm_split < 1 || s.cssm_split > 8) throw std::invalid_argument("shadows.cssm_split out of range");
+  u.split = s.cssm_split;
   while (std::max(map.width, map.height) > (s.cssm_max_basis << u.shift)) ++u.shift;
   u.bw = (map.width + (1 << u.shift) - 1) >> u.shift;
   u.bh = (map.height + (1 << u.shift) - 1) >> u.shift;
@@ -182,18 +203,30 @@ class Prefiltered {
     }
   }
 
-  // The box average of one layer over half-width h about (qx, qy) (eq. 5.3: w * B_i); map
-  // texels in, block units inside.
-  double box(int layer, double qx, double qy, double h) const {
+  // The area, in block units², of the box of half-widths hx, hy about (qx, qy) inside the map.
+  double area(double qx, double qy, double hx, double hy) const {
+    qx /= f_;
+    qy /= f_;
+    hx /= f_;
+    hy /= f_;
+    const double lx = std::min(qx + hx, Wf_) - std::max(qx - hx, 0.0);
+    const double ly = std::min(qy + hy, Hf_) - std::max(qy - hy, 0.0);
+    return lx > 0 && ly > 0 ? lx * ly : 0.0;
+  }
+
+  // The box average of one layer over half-widths hx, hy about (qx, qy) (eq. 5.3: w * B_i);
+  // map texels in, block units inside.
+  double box(int layer, double qx, double qy, double hx, double hy) const {
     const auto& T = tables_[size_t(layer)];
     qx /= f_;
     qy /= f_;
-    h /= f_;
+    hx /= f_;
+    hy /= f_;
     if (u_.sat) {
       const auto& t = T[0];
       auto S = [&](int x, int y) { return t[size_t(y) * (W_ + 1) + x]; };
-      const double x0 = std::max(qx - h, 0.0), x1 = std::min(qx + h, Wf_);
-      const double y0 = std::max(qy - h, 0.0), y1 = std::min(qy + h, Hf_);
+      const double x0 = std::max(qx - hx, 0.0), x1 = std::min(qx + hx, Wf_);
+      const double y0 = std::max(qy - hy, 0.0), y1 = std::min(qy + hy, Hf_);
       const int X0 = int(std::floor(x0)), X1 = int(std::floor(x1));
       const int Y0 = int(std::floor(y0)), Y1 = int(std::floor(y1));
       // Spans [X0, X1), cell X0, cell X1 with weights 1, −frac(x0), frac(x1): the exact
@@ -210,6 +243,8 @@ class Prefiltered {
       return sum / ((x1 - x0) * (y1 - y0));
     }
     const int levels = int(L_.w.size());
+    // The level whose texel spans the kernel (of a rectangle, the square of its area).
+    const double h = hx == hy ? hx : std::sqrt(hx * hy);
     const double lev = std::clamp(std::log2(2.0 * h), 0.0, double(levels - 1));
     const int l0 = int(std::floor(lev)), l1 = std::min(l0 + 1, levels - 1);
     const double t = lev - l0;
@@ -254,18 +289,51 @@ std::vector<float> cssm_reference(const ShadowmapInputs& in, const ShadowmapData
     const double cx = std::floor(q[0]) + 0.5, cy = std::floor(q[1]) + 0.5;
     const double d =
         std::clamp((G.threshold(q, g, cx, cy, texel_world) - u.zmin) / u.zrange, 0.0, 1.0);
-    const double delta = u.s_z * d - u.x0;
-    // Prefiltered CSM (eq. 5.3, 5.10): the raw filtered visibility s_f over half-width h.
-    auto visibility = [&](double h) {
-      double sf = 0.5;
+    // Prefiltered CSM (eq. 5.3, 5.10): the raw filtered visibility s_f of a box against the
+    // normalised receiver depth dn; with csm_z, CSM-Z's numerator w * (f̄ z) instead (eq. 5.11:
+    // (w * z)/2 + Σ 2/c_k [sin(c_k δ)(w * z cos) − cos(c_k δ)(w * z sin)]).
+    auto lookup = [&](double bx, double by, double hx, double hy, double dn, bool csm_z) {
+      const double delta = u.s_z * dn - u.x0;
+      double v = csm_z ? 0.5 * pf.box(4 * M, bx, by, hx, hy) : 0.5;
+      const int base = csm_z ? 2 * M : 0;
       for (int j = 0; j < M; ++j) {
         const double c = kPi * (2 * j + 1);
-        sf -= 2.0 / c *
-              (std::sin(c * delta) * pf.box(j, q[0], q[1], h) -
-               std::cos(c * delta) * pf.box(M + j, q[0], q[1], h));
+        const double t = 2.0 / c *
+                         (std::sin(c * delta) * pf.box(base + j, bx, by, hx, hy) -
+                          std::cos(c * delta) * pf.box(base + M + j, bx, by, hx, hy));
+        v += csm_z ? t : -t;
       }
-      return sf;
+      return v;
     };
+    // Sub-kernels along one axis (see the top of the file): the threshold's range over the
+    // kernel's extent [lo, hi] through the pixel, in units of x0, rounded up.
+    auto split = [&](V2 lo, V2 hi) {
+      if (g[3] < SHADOWMAP_TRUSTED_SLOPE) return 1;  // a plane the neighbours do not confirm
+      const auto tr = G.threshold_range(q, g, lo, hi, texel_world);
+      const double r = u.s_z * (tr[1] - tr[0]) / u.zrange / u.x0;
+      return r > double(u.split) ? u.split : (r > 1.0 ? int(std::ceil(r)) : 1);
+    };
+    // The lookup over half-width h about the pixel, split into nx x ny sub-kernels, each
+    // against the receiver's depth at its centre.
+    auto filtered = [&](double h, bool csm_z) {
+      const int nx = split({q[0] - h, q[1]}, {q[0] + h, q[1]});
+      const int ny = split({q[0], q[1] - h}, {q[0], q[1] + h});
+      if (nx * ny == 1) return lookup(q[0], q[1], h, h, d, csm_z);
+      const double sx = h / nx, sy = h / ny;
+      double sum = 0, area = 0;
+      for (int j = 0; j < ny; ++j)
+        for (int i = 0; i < nx; ++i) {
+          const double bx = q[0] - h + (2 * i + 1) * sx, by = q[1] - h + (2 * j + 1) * sy;
+          const double a = pf.area(bx, by, sx, sy);
+          if (a <= 0) continue;
+          const double dn = std::clamp(
+              (G.threshold(q, g, bx, by, texel_world) - u.zmin) / u.zrange, 0.0, 1.0);
+          sum += a * lookup(bx, by, sx, sy, dn, csm_z);
+          area += a;
+        }
+      return area > 0 ? sum / area : lookup(q[0], q[1], h, h, d, csm_z);
+    };
+    auto visibility = [&](double h) { return filtered(h, false); };
     // Blocker search (Fig. 5.1a): the PCSS region as a box of the same area.
     const double rs = std::min(k * std::max(1.0 / map.min_depth - 1.0 / q[2], 0.0), s.max_radius);
     const double hs = std::max(kBoxOfDisk * rs, kMinHalfWidth);
@@ -275,13 +343,7 @@ std::vector<float> cssm_reference(const ShadowmapInputs& in, const ShadowmapData
       return 1.0;
     }
     // CSM-Z (eq. 5.11), then z_avg (eq. 5.8).
-    double num = 0.5 * pf.box(4 * M, q[0], q[1], hs);
-    for (int j = 0; j < M; ++j) {
-      const double c = kPi * (2 * j + 1);
-      num += 2.0 / c *
-             (std::sin(c * delta) * pf.box(2 * M + j, q[0], q[1], hs) -
-              std::cos(c * delta) * pf.box(3 * M + j, q[0], q[1], hs));
-    }
+    const double num = filtered(hs, true);
     const double z_avg = std::clamp(num / (1.0 - sf), 0.0, d);
     const double zb = u.zmin + z_avg * u.zrange;
     // Penumbra width (§5.3.1): rf = k (1/z_avg − 1/d), in texels.
@@ -329,6 +391,7 @@ class Cssm final : public ShadowmapMethod {
     c.layers = uint32_t(4 * u.M + 1);
     if (c.layers > CSSM_MAX_LAYERS) throw std::invalid_argument("cssm: order above 16");
     c.basis_shift = uint32_t(u.shift);
+    c.max_split = uint32_t(u.split);
     c.levels = uint32_t(L.w.size());
     c.zmin = float(u.zmin);
     c.zrange = float(u.zrange);

@@ -109,6 +109,12 @@ class Shadows final : public Effect {
        "cssm: largest side of the basis images, texels; a larger map is box-averaged 2x2 "
        "(exactly, the basis being linear in its texels) until it fits, so 4M + 1 images fit "
        "the device (kernels narrower than the averaged texel lose their detail)"),
+      params::def(shadow_keys::cssm_split, "4", 1, 8,
+       "cssm: most sub-kernels a side each lookup is split into where the receiver plane's "
+       "depth changes across the kernel by more than the expansion's step shift (a grazing "
+       "or sloped receiver): each sub-kernel is tested against the receiver's depth at its "
+       "centre, so the receiver does not shadow itself; 1: one receiver depth per pixel, as "
+       "the thesis (ch. 5); cost up to split^2 lookups"),
       params::def(shadow_keys::cssm_sharpen_a, "30", 0, 1e3,
        "cssm: A of the sharpening exponent p = 1 + A exp(-B (d - z_avg)) (eq. 5.9); 0: none"),
       params::def(shadow_keys::cssm_sharpen_b, "100", 0, 1e6,

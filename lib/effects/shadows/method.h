@@ -120,6 +120,21 @@ struct Geom {
     zc = std::clamp(zc, q[2] - lim, q[2] + lim);
     return zc - s.bias * texel_world - s.spread_bias * g[2];
   }
+  // Bounds of threshold() over the box [lo, hi): 1/z is linear in (u, v), so the plane's depth
+  // is extreme at the corners; its clamp to q.z ± g[3]·tw·|o| is bounded by the farthest corner.
+  std::array<double, 2> threshold_range(const V3& q, const Plane& g, V2 lo, V2 hi, double tw) const {
+    double zmin = 1e30, zmax = -1e30, far = 0;
+    for (int k = 0; k < 4; ++k) {
+      const double ox = ((k & 1) ? hi[0] : lo[0]) - q[0], oy = ((k & 2) ? hi[1] : lo[1]) - q[1];
+      const double iz = 1.0 / q[2] + g[0] * ox + g[1] * oy;
+      const double zc = iz > 0 ? 1.0 / iz : 1e30;
+      zmin = std::min(zmin, zc);
+      zmax = std::max(zmax, zc);
+      far = std::max(far, std::sqrt(ox * ox + oy * oy));
+    }
+    const double lim = g[3] * tw * far, b = s.bias * tw + s.spread_bias * g[2];
+    return {std::max(q[2] - lim, std::min(zmin, q[2])) - b, std::min(q[2] + lim, std::max(q[2], zmax)) - b};
+  }
   bool in_map(double cx, double cy) const {
     return cx >= 0 && cy >= 0 && cx < map.width && cy < map.height;
   }

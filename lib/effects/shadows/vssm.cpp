@@ -172,27 +172,17 @@ struct VssmRef {
     return G.threshold(q, g, 0.5 * (lo[0] + hi[0]), 0.5 * (lo[1] + hi[1]), tw);
   }
 
-  std::array<double, 2> threshold_range(const V3& q, const Plane& g, F2 lo, F2 hi, double tw) const {
-    double zmin = 1e30, zmax = -1e30, far = 0;
-    for (int k = 0; k < 4; ++k) {
-      const double ox = ((k & 1) ? hi[0] : lo[0]) - q[0], oy = ((k & 2) ? hi[1] : lo[1]) - q[1];
-      const double iz = 1.0 / q[2] + g[0] * ox + g[1] * oy;
-      const double zc = iz > 0 ? 1.0 / iz : 1e30;
-      zmin = std::min(zmin, zc);
-      zmax = std::max(zmax, zc);
-      far = std::max(far, std::sqrt(ox * ox + oy * oy));
-    }
-    const double lim = g[3] * tw * far, b = s.bias * tw + s.spread_bias * g[2];
-    return {std::max(q[2] - lim, std::min(zmin, q[2])) - b, std::min(q[2] + lim, std::max(q[2], zmax)) - b};
-  }
   int hsm_verdict(const V3& q, const Plane& g, F2 lo, F2 hi, double tw) const {
     const auto zr = hsm_range(lo, hi);
-    const auto tr = threshold_range(q, g, lo, hi, tw);
+    const auto tr = G.threshold_range(q, g, lo, hi, tw);
     return zr[0] >= tr[1] ? 1 : (zr[1] < tr[0] ? -1 : 0);
   }
 
   // One pixel inside the map, not back-facing.
-  double shade(int px, int py, const V3& q, const Plane& g, ShadowmapStats& st) const {
+  double shade(int px, int py, const V3& q_in, const Plane& g, ShadowmapStats& st) const {
+    // A receiver beyond the map's farthest surface (far_z, where the background stands in the
+    // SATs and the HSM) is shaded as lying on it: else the background would block it.
+    const V3 q = {q_in[0], q_in[1], std::min(q_in[2], v.far_z)};
     const double tw = 2.0 * q[2] * G.tan_y / G.map.height;
     const double k = s.light_radius * G.map.height / (2.0 * G.tan_y);
     (void)px;
