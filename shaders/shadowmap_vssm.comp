@@ -149,7 +149,7 @@ void main() {
   vec4 g = sm_receiver_plane(px, q, P, back);
   if (back) { atomicAdd(stats[SHADOWMAP_STAT_SKIPPED], 1u); soft[i] = hard[i]; return; }
   // A receiver beyond the map's farthest surface (far_z, where the background stands in the
-  // SATs and the HSM) is shaded as lying on it: else the background would block it.
+  // SATs and the HSM) is shaded as lying on it: else the background would block it (vssm.cpp).
   q.z = min(q.z, v.far_z);
   float tw = 2.0 * q.z * p.tan_y / float(p.map_h);
   float k = p.light_radius * float(p.map_h) / (2.0 * p.tan_y);

@@ -181,7 +181,9 @@ struct VssmRef {
   // One pixel inside the map, not back-facing.
   double shade(int px, int py, const V3& q_in, const Plane& g, ShadowmapStats& st) const {
     // A receiver beyond the map's farthest surface (far_z, where the background stands in the
-    // SATs and the HSM) is shaded as lying on it: else the background would block it.
+    // SATs and the HSM) is shaded as lying on it: else the background would block it. (A
+    // surface at far_z itself then no longer blocks it; the background a quarter farther,
+    // tried, kept that but cost grazing 0.062 -> 0.080 and lowlight 0.242 -> 0.301 RMSE.)
     const V3 q = {q_in[0], q_in[1], std::min(q_in[2], v.far_z)};
     const double tw = 2.0 * q[2] * G.tan_y / G.map.height;
     const double k = s.light_radius * G.map.height / (2.0 * G.tan_y);
