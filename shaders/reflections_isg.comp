@@ -21,6 +21,7 @@ layout(std430, binding = 5) writeonly buffer Tiles { float tiles[]; };
 layout(push_constant) uniform Push { ReflIsgPush pc; };
 
 shared uint tile_glossy;  // glossy pixels in the tile
+shared uint glossy_bits[REFL_TILE * REFL_TILE / 32u];  // bit per pixel of the tile: glossy
 
 float roughness_at(uint i) { return (pc.flags & REFL_HAS_ROUGHNESS) != 0u ? rough[i] : pc.roughness; }
 // A pixel holds reflection data to gather from: foreground with a non-zero weight.
@@ -108,14 +109,16 @@ Lobe lobe_at(uvec2 p, uint i) {
 
 // Parameter search (eq. 4, constant spatial weight, eq. 10 range) over t = E/(e+E), the ratio
 // of eq. 13: bounded, and 1 for misses (infinitely far).
-float search(Lobe L, uint i) {
+// The sums over lattice samples part, part + parts, ... (the centre in part 0): a quad's search
+// is split over its four lanes.
+vec2 search_sums(Lobe L, uint i, uint part, uint parts) {
   float d0 = pack_color[i].w;
   float st = d0 > 0.0 ? d0 / (L.e + d0) : 1.0;
   float sw = 1.0;
-  if (d0 <= 0.0 && (pc.flags & 8u) == 0u) { st = 0.0; sw = 0.0; }
+  if ((d0 <= 0.0 && (pc.flags & 8u) == 0u) || part != 0u) { st = 0.0; sw = 0.0; }
   uint gs = pc.grids & 0xffffu;
   mat2 FR = L.R_p * L.F;
-  for (uint k = 0u; k < gs * gs; ++k) {
+  for (uint k = part; k < gs * gs; k += parts) {
     vec4 u = samples[k];
     uint t = tap(L.p0 + FR * u.xy);
     vec4 c = pack_color[t];
@@ -129,8 +132,10 @@ float search(Lobe L, uint i) {
     st += w * tj;
     sw += w;
   }
-  return sw > 1e-6 ? st / sw : 1.0;
+  return vec2(st, sw);
 }
+float search_mean(vec2 s) { return s.y > 1e-6 ? s.x / s.y : 1.0; }
+float search(Lobe L, uint i) { return search_mean(search_sums(L, i, 0u, 1u)); }
 
 // The gather's footprint (eq. 13: tan α = E·tan θ / (e + E), a reflected deviation θ lands
 // k·tan θ pixels away): k = t̄·f in pixels, the cone's half-angle th_max and its radius R_s. A
@@ -159,15 +164,15 @@ float albedo_of(Lobe L) {
 // along its azimuth (eq. 14 narrows the minor axis); what is left of the GGX weight per solid
 // angle is 1 / cos θ_h. With τ = tan θ_h = α·sqrt(ξ/(1−ξ)): tan 2θ_h = 2τ/(1−τ²) and
 // 1/cos θ_h = sqrt(1+τ²) (θ_h ≤ 0.65, so τ < 1).
-vec3 gather_mean(Lobe L, uint i, Foot F) {
+vec4 gather_sums(Lobe L, uint i, Foot F, uint part, uint parts) {
   float alpha = L.alpha;
   float tm = tan(F.th_max);
   float xi_max = tm * tm / (alpha * alpha + tm * tm);
-  vec3 s = pack_color[i].rgb;
-  float ws = 1.0;
+  vec3 s = part == 0u ? pack_color[i].rgb : vec3(0.0);
+  float ws = part == 0u ? 1.0 : 0.0;
   uint gs = pc.grids & 0xffffu, gg = pc.grids >> 16;
   mat2 FK = F.k_px * L.F;
-  for (uint k = 0u; k < gg * gg; ++k) {
+  for (uint k = part; k < gg * gg; k += parts) {
     vec4 u = samples[gs * gs + k];
     float xi = xi_max * u.w;
     float tau2 = alpha * alpha * xi / (1.0 - xi);
@@ -181,7 +186,11 @@ vec3 gather_mean(Lobe L, uint i, Foot F) {
     s += w * c.rgb;
     ws += w;
   }
-  return s / ws;
+  return vec4(s, ws);
+}
+vec3 gather_mean(Lobe L, uint i, Foot F) {
+  vec4 s = gather_sums(L, i, F, 0u, 1u);
+  return s.rgb / s.w;
 }
 
 vec3 gather(Lobe L, uint i, Foot F) {
@@ -198,6 +207,8 @@ vec3 gather(Lobe L, uint i, Foot F) {
 shared uint quad_rep[REFL_QUADS * REFL_QUADS];    // the representative's index, or REFL_NO_REP
 shared float quad_t[REFL_QUADS * REFL_QUADS];     // its t̄ (eq. 4 over t = E/(e+E))
 shared vec4 quad_mean[REFL_QUADS * REFL_QUADS];   // its gather_mean and R_s (w < 0: none)
+#define REFL_QUAD_PARTS 4u  // lanes per quad in the quads' phase (REFL_TILE² / REFL_QUADS²)
+shared vec4 quad_part[REFL_QUAD_PARTS][REFL_QUADS * REFL_QUADS];  // their partial sums
 shared uint tile_searches, tile_gathers;
 
 // A wide lobe's mean (R_s ≥ REFL_REUSE_RADIUS) moves little from one pixel to the next: the
@@ -246,36 +257,56 @@ void main() {
   bool inside = p.x < pc.width && p.y < pc.height;
   uint i = inside ? p.y * pc.width + p.x : 0u;
   if (gl_LocalInvocationIndex == 0u) { tile_glossy = 0u; tile_searches = 0u; tile_gathers = 0u; }
+  if (gl_LocalInvocationIndex < REFL_TILE * REFL_TILE / 32u) glossy_bits[gl_LocalInvocationIndex] = 0u;
   barrier();
   bool g = inside && is_glossy(i);
-  if (g) atomicAdd(tile_glossy, 1u);
+  if (g) {
+    atomicAdd(tile_glossy, 1u);
+    atomicOr(glossy_bits[gl_LocalInvocationIndex >> 5u], 1u << (gl_LocalInvocationIndex & 31u));
+  }
   barrier();
-  // The quads' searches and wide gathers, one invocation per quad (the first REFL_QUADS² lanes,
-  // so that whole SIMD rows of llvmpipe sit idle rather than three lanes in four).
-  uint q = gl_LocalInvocationIndex;
-  if (tile_glossy != 0u && pc.mode == REFL_MODE_ISG && q < REFL_QUADS * REFL_QUADS) {
+  // The quads' searches and wide gathers, each split over four lanes: lane q + part·QUADS² takes
+  // samples part, part + 4, ... of quad q's lattices (whole SIMD rows of llvmpipe and whole warps
+  // on one part); the partial sums are added in a fixed order. The condition is uniform.
+  if (tile_glossy != 0u && pc.mode == REFL_MODE_ISG) {
+    uint q = gl_LocalInvocationIndex % (REFL_QUADS * REFL_QUADS);
+    uint part = gl_LocalInvocationIndex / (REFL_QUADS * REFL_QUADS);
     uvec2 base = gl_WorkGroupID.xy * REFL_TILE + 2u * uvec2(q % REFL_QUADS, q / REFL_QUADS);
     uint r = REFL_NO_REP;
     uvec2 rp = base;
     for (uint k = 0u; k < 4u; ++k) {
       uvec2 pp = base + uvec2(k & 1u, k >> 1u);
-      if (r == REFL_NO_REP && pp.x < pc.width && pp.y < pc.height && is_glossy(pp.y * pc.width + pp.x)) {
+      uint lp = (pp.y % REFL_TILE) * REFL_TILE + pp.x % REFL_TILE;  // its local index
+      if (r == REFL_NO_REP && (glossy_bits[lp >> 5u] & (1u << (lp & 31u))) != 0u) {
         r = pp.y * pc.width + pp.x;
         rp = pp;
       }
     }
-    quad_rep[q] = r;
-    quad_mean[q] = vec4(0.0, 0.0, 0.0, -1.0);
+    Lobe L;
     if (r != REFL_NO_REP) {
-      Lobe L = lobe_at(rp, r);
-      float t = search(L, r);
+      L = lobe_at(rp, r);
+      quad_part[part][q] = vec4(search_sums(L, r, part, REFL_QUAD_PARTS), 0.0, 0.0);
+    }
+    barrier();
+    float t = 1.0;
+    Foot F;
+    F.R_s = -1.0;
+    if (r != REFL_NO_REP) {
+      vec4 st = quad_part[0][q] + quad_part[1][q] + quad_part[2][q] + quad_part[3][q];
+      t = search_mean(st.xy);
+      F = footprint(L, t);
+    }
+    bool wide = r != REFL_NO_REP && F.R_s >= REFL_REUSE_RADIUS;
+    barrier();
+    if (wide) quad_part[part][q] = gather_sums(L, r, F, part, REFL_QUAD_PARTS);
+    barrier();
+    if (part == 0u) {
+      quad_rep[q] = r;
       quad_t[q] = t;
-      atomicAdd(tile_searches, 1u);
-      Foot F = footprint(L, t);
-      if (F.R_s >= REFL_REUSE_RADIUS) {
-        quad_mean[q] = vec4(gather_mean(L, r, F), F.R_s);
-        atomicAdd(tile_gathers, 1u);
-      }
+      vec4 g = wide ? quad_part[0][q] + quad_part[1][q] + quad_part[2][q] + quad_part[3][q] : vec4(1.0);
+      quad_mean[q] = wide ? vec4(g.rgb / g.w, F.R_s) : vec4(0.0, 0.0, 0.0, -1.0);
+      if (r != REFL_NO_REP) atomicAdd(tile_searches, 1u);
+      if (wide) atomicAdd(tile_gathers, 1u);
     }
   }
   barrier();

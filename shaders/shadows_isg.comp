@@ -20,6 +20,9 @@ const float PI = 3.14159265358979;
 shared uint s_rp;     // the tile's largest search radius (float bits)
 shared uint s_reach;  // OR of the flags of the tiles within reach
 shared uint s_dloc;   // the largest occluder distance of the tiles within reach (float bits)
+// The tile's statistics (SHADOWS_ISG_STAT_* from CLAMPED on), added to the image's once per tile
+// rather than once per pixel (same-address atomics serialise on a GPU).
+shared uint s_stat[SHADOWS_ISG_STATS];
 // The search and the wide gathers at half resolution (issue 18): per 2×2 quad of the tile, its
 // first foreground pixel (the representative) searches, and gathers where its radius R_g is at
 // least SHADOWS_ISG_REUSE_RADIUS.
@@ -28,6 +31,8 @@ shared uint s_dloc;   // the largest occluder distance of the tiles within reach
 shared uint q_rep[QUADS * QUADS];  // the representative's index, or NO_REP
 shared float q_d[QUADS * QUADS];   // its mean occluder distance (eq. 4, 6, 7), < 0: none in reach
 shared vec2 q_g[QUADS * QUADS];    // its gather (eq. 4) and R_g; R_g < 0: no wide gather
+#define QUAD_PARTS 4u  // lanes per quad in the quads' phase (SHADOWS_ISG_TILE² / QUADS²)
+shared vec2 q_part[QUAD_PARTS][QUADS * QUADS];  // their partial sums (search, then wide gather)
 
 mat3 rot() {  // world -> camera; GLSL matrices are column-major
   return mat3(pc.r00, pc.r10, pc.r20, pc.r01, pc.r11, pc.r21, pc.r02, pc.r12, pc.r22);
@@ -61,18 +66,19 @@ float cos_incidence(uvec2 p, vec3 P0, vec3 wl) {
 // wl onto the plane across the ray (sphere lights: the silhouette faces every receiver) or onto
 // the light's own plane (disk and rect lights).
 float across(vec3 dP, vec3 wl) {
-  if ((pc.flags & SHADOWS_ISG_ORIENTED) == 0u) return length(dP - dot(dP, wl) * wl);
+  if ((pc.flags & SHADOWS_ISG_ORIENTED) == 0u) {
+    float a = dot(dP, wl);
+    return sqrt(max(dot(dP, dP) - a * a, 0.0));  // |dP − (dP·wl) wl| for a unit wl
+  }
   vec3 n = vec3(pc.light_nx, pc.light_ny, pc.light_nz);
   float c = dot(wl, n);
   c = c < 0.0 ? min(c, -SHADOWS_ISG_MIN_COS) : max(c, SHADOWS_ISG_MIN_COS);
   return length(dP - (dot(dP, n) / c) * wl);
 }
 
-// Eq. 6-7 without inShadow: a gaussian of the world distance l (scene_radius units).
-float range_l(float l) {
-  float u = l * pc.inv_scene_radius;
-  return exp(-u * u * pc.inv_sigma);
-}
+// Eq. 6-7 without inShadow: a gaussian of the world distance l (scene_radius units), from
+// l² = |dP|² (no square root).
+float range_l2(float l2) { return exp(-l2 * (pc.inv_scene_radius * pc.inv_scene_radius * pc.inv_sigma)); }
 // Eq. 8: the penumbra radius R_s on the receiver for an occluder at d, the light at D.
 float penumbra(float d, float D) { return pc.light_size * d / max(D - d, SHADOWS_ISG_MIN_GAP * D); }
 
@@ -81,7 +87,7 @@ float penumbra(float d, float D) { return pc.light_size * d / max(D - d, SHADOWS
 // stretch along the receiver.
 struct Recv {
   vec3 P0, wl;
-  float D, pix;
+  float D, pix, inv_pix;
 };
 Recv receiver(uvec2 p, vec3 P0) {
   Recv R;
@@ -90,6 +96,7 @@ Recv receiver(uvec2 p, vec3 P0) {
   R.D = length(light() - P0);
   R.wl = (light() - P0) / max(R.D, 1e-20);
   R.pix = z / pc.f_px * cos_incidence(p, P0, R.wl);
+  R.inv_pix = 1.0 / R.pix;
   return R;
 }
 // The sample lattice's rotation at p (the pixel hash), scaled by a radius.
@@ -102,10 +109,12 @@ mat2 lattice(uvec2 p, float radius) {
 // Parameter search (eq. 4, 6, 7) at p over radius Rp: occluder distances weighted by
 // r = gaussian · inShadow, the centre tap included. The mean occluder distance, or -1 where no
 // occluder is within reach (the hard shadow stands).
-float search(Recv R, uvec2 p, uint i, float Rp) {
+// The sums of lattice samples part, part + parts, ... (the centre tap in part 0): a quad's
+// search is split over its four lanes.
+vec2 search_sums(Recv R, uvec2 p, uint i, float Rp, uint part, uint parts) {
   float s0 = shadow_in[i], o0 = occluder[i];
   float sw = 0.0, swd = 0.0;
-  if (s0 < 1.0 && o0 > 0.0) {
+  if (part == 0u && s0 < 1.0 && o0 > 0.0) {
     sw = 1.0 - s0;
     swd = sw * o0;
   }
@@ -113,7 +122,7 @@ float search(Recv R, uvec2 p, uint i, float Rp) {
   ivec2 org = ivec2(pc.origin & 0xffffu, pc.origin >> 16);
   uint grid_search = pc.grids & 0xffffu;
   mat2 Rot = lattice(p, Rp);
-  for (uint k = 0u; k < grid_search * grid_search; ++k) {
+  for (uint k = part; k < grid_search * grid_search; k += parts) {
     vec2 x = p0 + Rot * samples[k] - 0.5;
     vec2 x0 = floor(x), f = x - x0;
     ivec2 xa = ivec2(x0) - org;
@@ -127,19 +136,21 @@ float search(Recv R, uvec2 p, uint i, float Rp) {
       if (!(ot > 0.0)) continue;
       vec3 dP = Tt.xyz - R.P0;
       float bw = ((j & 1) != 0 ? f.x : 1.0 - f.x) * ((j >> 1) != 0 ? f.y : 1.0 - f.y);
-      float r = range_l(length(dP)) * (1.0 - Tt.w) * bw;
+      float r = range_l2(dot(dP, dP)) * (1.0 - Tt.w) * bw;
       float l = across(dP, R.wl);
       if ((pc.flags & SHADOWS_ISG_SEARCH_REACH) != 0u) {
         // PCSS's blocker test in image space: the occluder's own penumbra reaches p_0.
         float Rt = penumbra(ot, length(light() - Tt.xyz));
-        r *= clamp((SHADOWS_ISG_REACH * Rt + R.pix - l) / R.pix, 0.0, 1.0);
+        r *= clamp((SHADOWS_ISG_REACH * Rt + R.pix - l) * R.inv_pix, 0.0, 1.0);
       }
       sw += r;
       swd += r * ot;
     }
   }
-  return sw > 0.0 ? swd / sw : -1.0;
+  return vec2(sw, swd);
 }
+float search_mean(vec2 s) { return s.x > 0.0 ? s.y / s.x : -1.0; }
+float search(Recv R, uvec2 p, uint i, float Rp) { return search_mean(search_sums(R, p, i, Rp, 0u, 1u)); }
 
 // Gather (eq. 4) over the shadow bits: uniform over the points within R_s of p_0 across the
 // light direction (a one-pixel ramp at the rim): on the receiver, the penumbra's footprint,
@@ -148,13 +159,13 @@ float search(Recv R, uvec2 p, uint i, float Rp) {
 // in the search: the shadow bits are a binary signal, and point taps of them alias (issue 18:
 // isg-synth contact's error rose 40 % with point taps in the gather, shared contact's 7 % at 9
 // search samples with point taps in the search).
-float gather(Recv R, uvec2 p, uint i, float Rs, float Rg) {
-  float sum = shadow_in[i], ws = 1.0;
+vec2 gather_sums(Recv R, uvec2 p, uint i, float Rs, float Rg, uint part, uint parts) {
+  float sum = part == 0u ? shadow_in[i] : 0.0, ws = part == 0u ? 1.0 : 0.0;
   vec2 p0 = vec2(p + uvec2(pc.origin & 0xffffu, pc.origin >> 16)) + 0.5;
   ivec2 org = ivec2(pc.origin & 0xffffu, pc.origin >> 16);
   uint grid_search = pc.grids & 0xffffu, grid_gather = pc.grids >> 16;
   mat2 Rog = lattice(p, Rg);
-  for (uint k = 0u; k < grid_gather * grid_gather; ++k) {
+  for (uint k = part; k < grid_gather * grid_gather; k += parts) {
     vec2 x = p0 + Rog * samples[grid_search * grid_search + k] - 0.5;
     vec2 x0 = floor(x), f = x - x0;
     ivec2 xa = ivec2(x0) - org;
@@ -166,12 +177,16 @@ float gather(Recv R, uvec2 p, uint i, float Rs, float Rg) {
       vec3 dP = Tt.xyz - R.P0;
       float l = across(dP, R.wl);
       float bw = ((j & 1) != 0 ? f.x : 1.0 - f.x) * ((j >> 1) != 0 ? f.y : 1.0 - f.y);
-      float r = range_l(length(dP)) * clamp((Rs + 0.5 * R.pix - l) / R.pix, 0.0, 1.0) * bw;
+      float r = range_l2(dot(dP, dP)) * clamp((Rs + 0.5 * R.pix - l) * R.inv_pix, 0.0, 1.0) * bw;
       sum += r * Tt.w;
       ws += r;
     }
   }
-  return sum / ws;
+  return vec2(sum, ws);
+}
+float gather(Recv R, uvec2 p, uint i, float Rs, float Rg) {
+  vec2 s = gather_sums(R, p, i, Rs, Rg, 0u, 1u);
+  return s.x / s.y;
 }
 
 // A wide penumbra's gather (R_g ≥ SHADOWS_ISG_REUSE_RADIUS) moves little from one pixel to the
@@ -189,12 +204,47 @@ bool reuse(vec3 P0, float Rg, out float m) {
     float w = isg_quad_weight(a, k);
     vec2 g = q_g[q];
     if (w <= 0.0 || g.y < 0.0 || g.y * SHADOWS_ISG_REUSE_RATIO < Rg || Rg * SHADOWS_ISG_REUSE_RATIO < g.y) continue;
-    if (range_l(length(pack[q_rep[q]].xyz - P0)) < SHADOWS_ISG_QUAD_SAME) continue;
+    if (range_l2(dot(pack[q_rep[q]].xyz - P0, pack[q_rep[q]].xyz - P0)) < SHADOWS_ISG_QUAD_SAME) continue;
     s += w * g.x;
     ws += w;
   }
   m = ws > 0.0 ? s / ws : 0.0;
   return ws >= SHADOWS_ISG_REUSE_COVER;
+}
+
+// The pixel's soft shadow after the quads' phase: the hard shadow where the tile took the cheap
+// path or no occluder is within reach, else the gather (or its reuse from the quads').
+float shade(uvec2 p, uint i, bool full, Recv R, float d_loc) {
+  float s0 = shadow_in[i];
+  // Background is left untouched; the cheap path keeps the hard shadow.
+  if (!full) return s0;
+  atomicAdd(s_stat[SHADOWS_ISG_STAT_FULL], 1u);
+  float Rp_raw = d_loc > 0.0 ? penumbra(d_loc, R.D) / R.pix : 0.0;
+  bool clamped = Rp_raw > pc.max_radius;
+  // The search: the quad representative's, unless the pixel lies on another surface.
+  uvec2 l = gl_LocalInvocationID.xy / 2u;
+  uint qs = l.y * QUADS + l.x, r = q_rep[qs];
+  float d = q_d[qs];
+  if (r != i && range_l2(dot(pack[r].xyz - R.P0, pack[r].xyz - R.P0)) < SHADOWS_ISG_QUAD_SAME) {
+    d = search(R, p, i, min(Rp_raw, pc.max_radius));
+    atomicAdd(s_stat[SHADOWS_ISG_STAT_SEARCHES], 1u);
+  }
+  float out_;
+  if (d < 0.0) {  // no occluder within reach: the hard shadow stands
+    out_ = s0;
+  } else {
+    // Eq. 8-9: the penumbra radius R_s in the world, R_g in pixels at the receiver's depth.
+    float Rs = penumbra(d, R.D);
+    float Rg_raw = Rs / R.pix;
+    clamped = clamped || Rg_raw > pc.max_radius;
+    float Rg = min(Rg_raw, pc.max_radius);
+    if (!(Rg >= SHADOWS_ISG_REUSE_RADIUS && reuse(R.P0, Rg, out_))) {
+      out_ = gather(R, p, i, Rs, Rg);
+      atomicAdd(s_stat[SHADOWS_ISG_STAT_GATHERS], 1u);
+    }
+  }
+  if (clamped) atomicAdd(s_stat[SHADOWS_ISG_STAT_CLAMPED], 1u);
+  return out_;
 }
 
 void main() {
@@ -210,6 +260,7 @@ void main() {
     s_reach = 0u;
     s_dloc = 0u;
   }
+  if (gl_LocalInvocationIndex < SHADOWS_ISG_STATS) s_stat[gl_LocalInvocationIndex] = 0u;
   barrier();
 
   // The reach of the widest penumbra in the image bounds the tiles to look at.
@@ -240,10 +291,11 @@ void main() {
   // Eq. 5: the search radius R_p covers the widest penumbra the occluders around can cast.
   float d_loc = uintBitsToFloat(s_dloc);
 
-  // The quads' searches and wide gathers, one invocation per quad (the first QUADS² lanes, so
-  // that whole SIMD rows of llvmpipe sit idle rather than three lanes in four).
-  uint q = gl_LocalInvocationIndex;
-  if (!cheap && q < QUADS * QUADS) {
+  // The quads' searches and wide gathers, each split over four lanes: lane q + part·QUADS² takes
+  // samples part, part + 4, ... of quad q's lattices (whole SIMD rows of llvmpipe and whole warps
+  // on one part); the partial sums are added in a fixed order. `cheap` is uniform over the tile.
+  if (!cheap) {
+    uint q = gl_LocalInvocationIndex % (QUADS * QUADS), part = gl_LocalInvocationIndex / (QUADS * QUADS);
     uvec2 base = gl_WorkGroupID.xy * SHADOWS_ISG_TILE + 2u * uvec2(q % QUADS, q / QUADS);
     uint r = NO_REP;
     uvec2 rp = base;
@@ -254,60 +306,39 @@ void main() {
         rp = pp;
       }
     }
-    q_rep[q] = r;
-    q_d[q] = -1.0;
-    q_g[q] = vec2(0.0, -1.0);
+    Recv Rr;
     if (r != NO_REP) {
-      Recv Rr = receiver(rp, pack[r].xyz);
+      Rr = receiver(rp, pack[r].xyz);
       float Rp = min(d_loc > 0.0 ? penumbra(d_loc, Rr.D) / Rr.pix : 0.0, pc.max_radius);
-      float d = search(Rr, rp, r, Rp);
-      atomicAdd(tiles[3u * nt + SHADOWS_ISG_STAT_SEARCHES], 1u);
-      q_d[q] = d;
+      q_part[part][q] = search_sums(Rr, rp, r, Rp, part, QUAD_PARTS);
+    }
+    barrier();
+    float d = -1.0, Rs = 0.0, Rg = -1.0;
+    if (r != NO_REP) {
+      d = search_mean(q_part[0][q] + q_part[1][q] + q_part[2][q] + q_part[3][q]);
       if (d >= 0.0) {
-        float Rs = penumbra(d, Rr.D);
-        float Rg = min(Rs / Rr.pix, pc.max_radius);
-        if (Rg >= SHADOWS_ISG_REUSE_RADIUS) {
-          q_g[q] = vec2(gather(Rr, rp, r, Rs, Rg), Rg);
-          atomicAdd(tiles[3u * nt + SHADOWS_ISG_STAT_GATHERS], 1u);
-        }
+        Rs = penumbra(d, Rr.D);
+        Rg = min(Rs / Rr.pix, pc.max_radius);
       }
+    }
+    bool wide = d >= 0.0 && Rg >= SHADOWS_ISG_REUSE_RADIUS;
+    barrier();
+    if (wide) q_part[part][q] = gather_sums(Rr, rp, r, Rs, Rg, part, QUAD_PARTS);
+    barrier();
+    if (part == 0u) {
+      q_rep[q] = r;
+      q_d[q] = d;
+      vec2 g = wide ? q_part[0][q] + q_part[1][q] + q_part[2][q] + q_part[3][q] : vec2(0.0);
+      q_g[q] = wide ? vec2(g.x / g.y, Rg) : vec2(0.0, -1.0);
+      if (r != NO_REP) atomicAdd(s_stat[SHADOWS_ISG_STAT_SEARCHES], 1u);
+      if (wide) atomicAdd(s_stat[SHADOWS_ISG_STAT_GATHERS], 1u);
     }
   }
   barrier();
-  if (!inside) return;
-  float s0 = shadow_in[i];
-  // Background is left untouched; the cheap path keeps the hard shadow.
-  if (!fg0 || cheap) {
-    soft[i] = s0;
-    return;
-  }
-  atomicAdd(tiles[3u * nt + SHADOWS_ISG_STAT_FULL], 1u);
-  float Rp_raw = d_loc > 0.0 ? penumbra(d_loc, R.D) / R.pix : 0.0;
-  bool clamped = Rp_raw > pc.max_radius;
-  // The search: the quad representative's, unless the pixel lies on another surface.
-  uvec2 l = gl_LocalInvocationID.xy / 2u;
-  uint qs = l.y * QUADS + l.x, r = q_rep[qs];
-  float d = q_d[qs];
-  if (r != i && range_l(length(pack[r].xyz - R.P0)) < SHADOWS_ISG_QUAD_SAME) {
-    d = search(R, p, i, min(Rp_raw, pc.max_radius));
-    atomicAdd(tiles[3u * nt + SHADOWS_ISG_STAT_SEARCHES], 1u);
-  }
-  if (d < 0.0) {  // no occluder within reach: the hard shadow stands
-    soft[i] = s0;
-    if (clamped) atomicAdd(tiles[3u * nt + SHADOWS_ISG_STAT_CLAMPED], 1u);
-    return;
-  }
-  // Eq. 8-9: the penumbra radius R_s in the world, R_g in pixels at the receiver's depth.
-  float Rs = penumbra(d, R.D);
-  float Rg_raw = Rs / R.pix;
-  clamped = clamped || Rg_raw > pc.max_radius;
-  float Rg = min(Rg_raw, pc.max_radius);
-  float m;
-  if (Rg >= SHADOWS_ISG_REUSE_RADIUS && reuse(R.P0, Rg, m)) {
-    soft[i] = m;
-  } else {
-    soft[i] = gather(R, p, i, Rs, Rg);
-    atomicAdd(tiles[3u * nt + SHADOWS_ISG_STAT_GATHERS], 1u);
-  }
-  if (clamped) atomicAdd(tiles[3u * nt + SHADOWS_ISG_STAT_CLAMPED], 1u);
+  if (inside) soft[i] = shade(p, i, fg0 && !cheap, R, d_loc);
+  // The tile's statistics into the image's (stats: every lane has passed its last atomic).
+  barrier();
+  if (gl_LocalInvocationIndex >= SHADOWS_ISG_STAT_CLAMPED && gl_LocalInvocationIndex < SHADOWS_ISG_STATS &&
+      s_stat[gl_LocalInvocationIndex] != 0u)
+    atomicAdd(tiles[3u * nt + gl_LocalInvocationIndex], s_stat[gl_LocalInvocationIndex]);
 }
