@@ -6,7 +6,9 @@
 // lit or in umbra (§7.5.1); the blocker search's kernel, split into m x m sub-kernels, gives
 // the mean blocker depth by eq. 7.4 (planar sub-kernels, Chebyshev eq. 7.1 on the pooled
 // moments of eq. 7.5) and PCF (non-planar ones, §7.4.2); the filter kernel is traversed as a
-// quad-tree of height H without a stack (Algorithm 3); near contact a 3x3 PCF (§7.5.4).
+// quad-tree of height H without a stack (Algorithm 3); near contact a 3x3 PCF (§7.5.4). A
+// sub-kernel counts as planar only where the receiver's threshold is flat across it
+// (threshold_flat): else it is split, or filtered by PCF at the tree's leaves.
 // lib/effects/shadows/vssm.cpp holds the double mirror.
 layout(local_size_x = SHADOWMAP_LOCAL, local_size_y = SHADOWMAP_LOCAL) in;
 layout(std430, binding = 0) readonly buffer Prm { ShadowmapParams p; };
@@ -130,6 +132,18 @@ void square(vec3 q, float r, out vec2 lo, out vec2 hi) {
   hi = min(q.xy + r, vec2(p.map_w, p.map_h));
 }
 
+// Whether the receiver's threshold moves by less than `gap` (the sub-kernel's lead on it,
+// t − E(z)) over [lo, hi) (issue 19). Chebyshev's bound (eq. 7.1) and eq. 7.4 take one threshold
+// for the sub-kernel; where the receiver plane's own depths spread over more than that lead (a
+// floor lit at grazing light, a wide kernel), the lit receiver's spread counts as variance and
+// lets light through the blockers, and eq. 7.4 places them too near the light (own lowlight
+// case: a sphere's umbra came out 0.55 lit). Such sub-kernels are split further or filtered by
+// PCF, which tests each tap against its own threshold.
+bool threshold_flat(vec3 q, vec4 g, vec2 lo, vec2 hi, float tw, float gap) {
+  vec2 tr = sm_threshold_range(q, g, lo, hi, tw);
+  return tr.y - tr.x < gap;
+}
+
 // The HSM's verdict on a sub-kernel: 1 all lit, -1 all blocked, 0 neither.
 int hsm_verdict(vec3 q, vec4 g, vec2 lo, vec2 hi, float tw) {
   vec2 zr = hsm_range(lo, hi), tr = sm_threshold_range(q, g, lo, hi, tw);
@@ -180,11 +194,12 @@ void main() {
       if (hv > 0) continue;  // no blockers
       Moments mo = moments(lo, hi);
       float t = sm_threshold(q, g, 0.5 * (lo + hi), tw);
+      bool flat_t = mo.ez < t && threshold_flat(q, g, lo, hi, tw, t - mo.ez);
       if (hv < 0) {
         bPcf += mo.T; zPcf += mo.ez * mo.T;  // all blockers: their mean depth is E(z)
-      } else if (mo.ez < t) {
+      } else if (flat_t || (mo.ez < t && v.leaf_grid == 0u)) {
         sA += mo.T; sZ += mo.ez * mo.T; sZ2 += mo.ez2 * mo.T; sT += (t + unbias) * mo.T;
-      } else if (variance(mo.ez, mo.ez2) >= v.flat_var && v.leaf_grid > 0u) {
+      } else if ((mo.ez < t || variance(mo.ez, mo.ez2) >= v.flat_var) && v.leaf_grid > 0u) {
         float nb, zb;
         pcf(lo, hi, v.leaf_grid, q, g, tw, nb, zb);
         float n = float(v.leaf_grid * v.leaf_grid);
@@ -238,16 +253,20 @@ void main() {
       Moments mo = moments(lo, hi);
       float t = sm_threshold(q, g, 0.5 * (lo + hi), tw);
       float var = variance(mo.ez, mo.ez2);
+      bool flat_t = mo.ez < t && threshold_flat(q, g, lo, hi, tw, t - mo.ez);
       if (mo.ez >= t && var < v.flat_var) {
         lA += mo.T;                                   // L10-L12: planar and behind: lit
-      } else if (mo.ez < t) {
+      } else if (flat_t) {
         sA += mo.T; sZ += mo.ez * mo.T; sZ2 += mo.ez2 * mo.T; sT += (t + unbias) * mo.T;  // L14-L18
+        // (a sub-kernel with blockers whose threshold is not flat goes down, or to PCF)
       } else if (level < H) {
         down = true;                                  // L21
       } else if (v.leaf_grid > 0u) {
         float nb, zb;                                 // L23-L26
         pLit += mo.T * pcf(lo, hi, v.leaf_grid, q, g, tw, nb, zb);
         pA += mo.T;
+      } else if (mo.ez < t) {
+        sA += mo.T; sZ += mo.ez * mo.T; sZ2 += mo.ez2 * mo.T; sT += (t + unbias) * mo.T;
       } else {
         lA += mo.T;  // no PCF: taken as lit, as plain variance shadow maps do
       }

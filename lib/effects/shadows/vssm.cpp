@@ -172,6 +172,12 @@ struct VssmRef {
     return G.threshold(q, g, 0.5 * (lo[0] + hi[0]), 0.5 * (lo[1] + hi[1]), tw);
   }
 
+  // The receiver's threshold stays within gap = t − E(z) over [lo, hi) (shadowmap_vssm.comp).
+  bool threshold_flat(const V3& q, const Plane& g, F2 lo, F2 hi, double tw, double gap) const {
+    const auto tr = G.threshold_range(q, g, lo, hi, tw);
+    return tr[1] - tr[0] < gap;
+  }
+
   int hsm_verdict(const V3& q, const Plane& g, F2 lo, F2 hi, double tw) const {
     const auto zr = hsm_range(lo, hi);
     const auto tr = G.threshold_range(q, g, lo, hi, tw);
@@ -209,11 +215,12 @@ struct VssmRef {
         if (hv > 0) continue;
         const Moments mo = moments(lo, hi);
         const double t = threshold_at(q, g, lo, hi, tw);
+        const bool flat_t = mo.ez < t && threshold_flat(q, g, lo, hi, tw, t - mo.ez);
         if (hv < 0) {
           bPcf += mo.T; zPcf += mo.ez * mo.T;
-        } else if (mo.ez < t) {
+        } else if (flat_t || (mo.ez < t && grid == 0)) {
           sA += mo.T; sZ += mo.ez * mo.T; sZ2 += mo.ez2 * mo.T; sT += (t + unbias) * mo.T;
-        } else if (variance(mo.ez, mo.ez2) >= flat && grid > 0) {
+        } else if ((mo.ez < t || variance(mo.ez, mo.ez2) >= flat) && grid > 0) {
           double nb, zb;
           pcf(lo, hi, grid, q, g, tw, nb, zb);
           const double n = double(grid * grid);
@@ -260,9 +267,10 @@ struct VssmRef {
         const Moments mo = moments(lo, hi);
         const double t = threshold_at(q, g, lo, hi, tw);
         const double var = variance(mo.ez, mo.ez2);
+        const bool flat_t = mo.ez < t && threshold_flat(q, g, lo, hi, tw, t - mo.ez);
         if (mo.ez >= t && var < flat) {
           lA += mo.T;
-        } else if (mo.ez < t) {
+        } else if (flat_t) {
           sA += mo.T; sZ += mo.ez * mo.T; sZ2 += mo.ez2 * mo.T; sT += (t + unbias) * mo.T;
         } else if (level < s.vssm_h) {
           down = true;
@@ -270,6 +278,8 @@ struct VssmRef {
           double nb, zb;
           pLit += mo.T * pcf(lo, hi, grid, q, g, tw, nb, zb);
           pA += mo.T;
+        } else if (mo.ez < t) {
+          sA += mo.T; sZ += mo.ez * mo.T; sZ2 += mo.ez2 * mo.T; sT += (t + unbias) * mo.T;
         } else {
           lA += mo.T;
         }
