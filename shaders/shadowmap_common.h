@@ -22,6 +22,15 @@ vec3 sm_rel(uint i) {
 // Light space of d = P − light: (u, v) in map texels (texel centres at k + 0.5, row 0 at the
 // top), planar depth; l03, l13, l23 are the translation left after the light's centre was
 // rounded to float (in double on the host).
+// The float32 spacing of pixel i's input: of P's largest component (P far from the world origin
+// carries steps of it), else of Z. Exact (from the exponent bits).
+float sm_input_step(uint i) {
+  uint n = p.width * p.height;
+  float m = p.has_position != 0u ? max(max(abs(geo[i]), abs(geo[n + i])), abs(geo[2u * n + i])) : abs(geo[i]);
+  uint e = (floatBitsToUint(m) >> 23) & 0xffu;
+  return e > 23u ? uintBitsToFloat((e - 23u) << 23) : 0.0;
+}
+
 vec3 sm_project(vec3 d) {
   float x = p.l00 * d.x + p.l01 * d.y + p.l02 * d.z + p.l03;
   float y = p.l10 * d.x + p.l11 * d.y + p.l12 * d.z + p.l13;
@@ -78,7 +87,7 @@ vec4 sm_receiver_plane(uvec2 px, vec3 q, vec3 P, out bool back) {
     if (best < 1e30) { t[found] = bt; d[found++] = bd; }
     spread = min(spread, best);
   }
-  spread = (spread >= 1e30 ? 0.0 : spread) + p.depth_eps;
+  spread = (spread >= 1e30 ? 0.0 : spread) + p.depth_eps + p.input_ulps * sm_input_step(px.y * p.width + px.x);
   if (found < 2) return vec4(0.0, 0.0, spread, p.slope_max);
   if (p.has_camera != 0u) {
     vec3 nrm = cross(t[0], t[1]);

@@ -34,8 +34,9 @@ struct ShadowmapParams {
   // Largest kernel radius (texels); constant depth bias in receiver texel footprints;
   // the receiver-plane (slope) bias is clamped to slope_max receiver texel footprints;
   // spread_bias: times the smallest light-depth step to a screen neighbour.
-  // depth_eps: the map's own precision (shadows.depth_ulps float32 steps at the light's distance
-  // from the world origin), added to the receiver's depth uncertainty (spread).
+  // depth_eps: the map's own precision (SHADOWMAP_NOISE_EPS times its measured depth noise),
+  // added to the receiver's depth uncertainty (spread) with input_ulps (shadows.depth_ulps)
+  // float32 steps of the receiver's own input (P at its distance from the world origin, or Z).
   float max_radius, bias, slope_max, spread_bias, depth_eps;
   // Camera (depth -> position): focal length in pixels, eye − light (the light's centre as
   // rounded below, in double on the host), world-to-camera rotation rows.
@@ -47,7 +48,11 @@ struct ShadowmapParams {
   float cx, cy;
   uint origin;
   float far_clip;  // the map's far plane: receivers beyond it are outside the map
+  float input_ulps;
 };
+// The map's precision: this many times its measured depth noise (ShadowmapData::noise, the
+// deviation of independent per-texel noise; a float32 step is about 2.4 of it).
+#define SHADOWMAP_NOISE_EPS 4.0
 struct ShadowmapPush {
   uint width;
   uint height;

@@ -77,10 +77,10 @@ class Shadows final : public Effect {
        "shadow-map methods: extra depth bias, times the smallest light-depth step from the "
        "pixel to a screen neighbour (large where P blends two surfaces at a silhouette)"),
       params::def(shadow_keys::depth_ulps, "1", 0, 1e3,
-       "shadow-map methods: the map's own precision, added to the receiver's depth uncertainty "
-       "(times shadows.spread_bias): this many float32 steps at the light's distance from the "
-       "world origin, where the renderer computed the map's depths (negligible near the origin; "
-       "6 cm a step at 1e6 m)", "steps"),
+       "shadow-map methods: the receiver's input precision, added to its depth uncertainty "
+       "(times shadows.spread_bias) with the map's own (measured from its depths): this many "
+       "float32 steps of P at its distance from the world origin (6 cm a step at 1e6 m), or of "
+       "Z", "steps"),
       params::def(shadow_keys::smap_max_radius, "64", 0.5, 1024,
        "shadow-map methods: largest blocker-search and filter radius; pixels that need more "
        "are clamped and counted (--timings)", "texels"),

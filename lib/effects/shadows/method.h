@@ -35,10 +35,17 @@ struct Geom {
     n = size_t(in.w) * size_t(in.h);
     const io::Mat4 inv = io::inverse(s.world_to_light);
     light_pos = {inv[3], inv[7], inv[11]};
-    eps = double(float(depth_eps(s)));  // as the passes read it (ShadowmapParams::depth_eps)
+    eps = double(float(depth_eps(m)));  // as the passes read it (ShadowmapParams::depth_eps)
   }
   V3 light_pos{0, 0, 0};
   double eps = 0;
+  // The float32 spacing of pixel i's input (sm_input_step): of P's largest component, else of Z.
+  double input_step(size_t i) const {
+    const float m = !in.position.empty()
+                        ? std::max({std::abs(in.position[i]), std::abs(in.position[n + i]), std::abs(in.position[2 * n + i])})
+                        : std::abs(in.depth[i]);
+    return std::isnormal(m) && std::ilogb(m) > -127 + 23 ? std::ldexp(1.0, std::ilogb(m) - 23) : 0.0;
+  }
   V3 position(size_t i) const {
     if (!in.position.empty()) return {in.position[i], in.position[n + i], in.position[2 * n + i]};
     return PinholeView{s.f_px, s.eye, s.rot}.world(i, in.depth[i], in.w, in.h);
@@ -85,7 +92,8 @@ struct Geom {
       if (best < 1e30) { t[size_t(found)] = bt; d[size_t(found++)] = bd; }
       spread = std::min(spread, best);
     }
-    spread = (spread >= 1e30 ? 0.0 : spread) + eps;
+    spread = (spread >= 1e30 ? 0.0 : spread) + eps +
+             double(float(s.depth_ulps)) * input_step(size_t(py) * size_t(in.w) + size_t(px));
     if (found < 2) return {0, 0, spread, s.slope_max};
     if (s.has_camera) {
       V3 nr = {t[0][1] * t[1][2] - t[0][2] * t[1][1], t[0][2] * t[1][0] - t[0][0] * t[1][2],

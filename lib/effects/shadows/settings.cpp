@@ -117,6 +117,38 @@ ShadowmapSettings shadowmap_settings(const io::Light& light, const io::Camera* c
   return s;
 }
 
+namespace {
+// ShadowmapData::noise: second differences of 1/z (linear on a plane under the map's
+// perspective) at texels whose two neighbours along the axis are surfaces too and where the
+// depth changes (a plane rounded to float32 steps is flat between the steps: counting the flat
+// texels would hide the steps of a surface whose depth changes slowly), not at silhouettes
+// (a jump of over SILHOUETTE of the depth: 0.2 m at 4 m, where a float32 step 1e6 m from the
+// origin is 62.5 mm).
+double depth_noise(const ShadowmapData& d) {
+  std::vector<double> r;
+  const auto at = [&](int x, int y) { return double(d.z[size_t(y) * size_t(d.width) + size_t(x)]); };
+  const auto surface = [](double z) { return z > 0.0 && z < ISG_BACKGROUND_DEPTH; };
+  for (int y = 0; y < d.height; ++y)
+    for (int x = 0; x < d.width; ++x) {
+      const double z = at(x, y);
+      if (!surface(z)) continue;
+      for (int axis = 0; axis < 2; ++axis) {
+        const int ax = axis == 0 ? 1 : 0, ay = 1 - ax;
+        if (x - ax < 0 || y - ay < 0 || x + ax >= d.width || y + ay >= d.height) continue;
+        const double a = at(x - ax, y - ay), b = at(x + ax, y + ay);
+        constexpr double SILHOUETTE = 0.05;
+        if (!surface(a) || !surface(b) || (a == z && b == z)) continue;
+        if (std::max(std::abs(a - z), std::abs(b - z)) > SILHOUETTE * z) continue;
+        r.push_back(std::abs(1.0 / a - 2.0 / z + 1.0 / b) * z * z / std::sqrt(6.0));
+      }
+    }
+  if (r.empty()) return 0.0;
+  const auto k = r.begin() + std::ptrdiff_t(0.9 * double(r.size() - 1));
+  std::nth_element(r.begin(), k, r.end());
+  return *k;
+}
+}  // namespace
+
 ShadowmapData make_shadowmap(int width, int height, std::vector<float> z) {
   ShadowmapData d;
   d.width = width;
@@ -124,6 +156,7 @@ ShadowmapData make_shadowmap(int width, int height, std::vector<float> z) {
   d.z = std::move(z);
   for (float v : d.z)
     if (v > 0.0f && v < ISG_BACKGROUND_DEPTH) d.min_depth = std::min(d.min_depth, double(v));
+  d.noise = depth_noise(d);
   return d;
 }
 

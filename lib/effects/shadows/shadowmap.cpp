@@ -110,11 +110,7 @@ std::vector<float> pcss_reference(const ShadowmapInputs& in, const ShadowmapData
   return out;
 }
 
-double depth_eps(const ShadowmapSettings& s) {
-  const io::Mat4 inv = io::inverse(s.world_to_light);
-  const double m = std::max({std::abs(inv[3]), std::abs(inv[7]), std::abs(inv[11])});
-  return s.depth_ulps * m * 0x1p-23;
-}
+double depth_eps(const ShadowmapData& map) { return SHADOWMAP_NOISE_EPS * map.noise; }
 
 shaders::ShadowmapParams shadowmap_params(const ShadowmapSettings& s, const ShadowmapData& map,
                                           uint32_t w, uint32_t h, bool has_position,
@@ -152,7 +148,8 @@ shaders::ShadowmapParams shadowmap_params(const ShadowmapSettings& s, const Shad
   p.bias = float(s.bias);
   p.slope_max = float(s.slope_max);
   p.spread_bias = float(s.spread_bias);
-  p.depth_eps = float(depth_eps(s));
+  p.depth_eps = float(depth_eps(map));
+  p.input_ulps = float(s.depth_ulps);
   p.has_camera = s.has_camera ? 1u : 0u;
   p.f_px = float(s.f_px);
   p.cx = float(s.window.cx(int(w)));

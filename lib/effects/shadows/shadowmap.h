@@ -51,9 +51,9 @@ std::vector<float> cssm_reference(const ShadowmapInputs& in, const ShadowmapData
                                   const ShadowmapSettings& s, ShadowmapStats* stats = nullptr);
 
 // The parameters every shadowmap_* pass reads (shaders/shadowmap_io.h); `taps`: tap count.
-// The map's own precision in world units (shadows.depth_ulps float32 steps at the light's
-// distance from the world origin), added to every receiver's depth uncertainty.
-double depth_eps(const ShadowmapSettings& s);
+// The map's own precision in world units (SHADOWMAP_NOISE_EPS times its measured depth noise),
+// added to every receiver's depth uncertainty with the receiver's own input step (Geom).
+double depth_eps(const ShadowmapData& map);
 shaders::ShadowmapParams shadowmap_params(const ShadowmapSettings& s, const ShadowmapData& map,
                                           uint32_t w, uint32_t h, bool has_position,
                                           uint32_t taps);
