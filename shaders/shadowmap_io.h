@@ -51,12 +51,8 @@ struct ShadowmapParams {
   float input_ulps;
 };
 // The map's precision: this many times its measured depth noise (ShadowmapData::noise, the
-// deviation of independent per-texel noise; a float32 step is about 2.4 of it). Measured (RMSE
-// of key.softshadow): 4 cost CSSM on a half-float map 0.0157 -> 0.0261 (the stability page's
-// row), 2.5 0.0212, 1 0.0171; on the own Cycles renders far from the origin 1 was as good or
-// better for every map method (far1e6: PCSS 0.0500 / 0.0493 / 0.0500, CSSM 0.0547 / 0.0565 /
-// 0.0582 for 1 / 2.5 / 4).
-#define SHADOWMAP_NOISE_EPS 1.0
+// deviation of independent per-texel noise; a float32 step is about 2.4 of it).
+#define SHADOWMAP_NOISE_EPS 4.0
 struct ShadowmapPush {
   uint width;
   uint height;
