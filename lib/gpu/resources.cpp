@@ -2,7 +2,6 @@
 #include <utility>
 
 #include "gpu/gpu.h"
-#include "sys/pages.h"
 
 namespace isg::gpu {
 
@@ -94,9 +93,6 @@ Buffer::Buffer(Context& ctx, VkDeviceSize bytes, const std::string& debug_name, 
     vkBindBufferMemory(ctx.device(), buffer_, memory_, 0);
     if (ctx.unified_memory()) {
       check(vkMapMemory(ctx.device(), memory_, 0, VK_WHOLE_SIZE, 0, &mapped_), "vkMapMemory");
-      // Host memory a CPU device hands out: 2 MiB pages, so the zero fill or the upload below
-      // (the first touch) faults once per 2 MiB rather than per 4 KiB.
-      sys::advise_fresh(mapped_, size_, false);
     }
   } catch (...) {
     release();

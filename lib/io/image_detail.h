@@ -19,7 +19,7 @@ inline std::string first_line(std::string s) {
 template <class T>
 inline void reserve_fresh(std::vector<T>& v, size_t n) {
   v.reserve(n);
-  sys::advise_fresh(v.data(), n * sizeof(T), true);
+  sys::fault_in(v.data(), n * sizeof(T));
 }
 
 }  // namespace isg::io::detail
