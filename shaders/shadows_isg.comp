@@ -40,8 +40,8 @@ mat3 rot() {  // world -> camera; GLSL matrices are column-major
 vec3 light() { return vec3(pc.light_x, pc.light_y, pc.light_z); }  // light − eye
 bool foreground(vec4 t) { return t.w > 0.5 * SHADOWS_ISG_BACKGROUND; }
 
-// cos θ_i of the receiver at pixel p (normal from P's screen derivatives, one-sided next to a
-// silhouette), clamped to SHADOWS_ISG_MIN_COS.
+// P's screen derivative at pixel p along e (one-sided next to a silhouette): receiver() takes
+// the receiver's normal from two of them.
 vec3 axis_diff(uvec2 p, vec3 P0, uvec2 e) {
   uvec2 a = p - e, b = p + e;
   vec4 ta = p.x >= e.x && p.y >= e.y ? pack[a.y * pc.width + a.x] : vec4(SHADOWS_ISG_BACKGROUND);
@@ -56,12 +56,7 @@ vec3 axis_diff(uvec2 p, vec3 P0, uvec2 e) {
   }
   return ha ? g : f;
 }
-float cos_incidence(uvec2 p, vec3 P0, vec3 wl) {
-  vec3 n = cross(axis_diff(p, P0, uvec2(1u, 0u)), axis_diff(p, P0, uvec2(0u, 1u)));
-  float ln = length(n);
-  if (!(ln > 0.0)) return 1.0;
-  return max(abs(dot(n, wl)) / ln, SHADOWS_ISG_MIN_COS);
-}
+
 // The distance from p_0 in the penumbra's cross-section: dP projected along the light direction
 // wl onto the plane across the ray (sphere lights: the silhouette faces every receiver) or onto
 // the light's own plane (disk and rect lights).
@@ -82,31 +77,53 @@ float range_l2(float l2) { return exp(-l2 * (pc.inv_scene_radius * pc.inv_scene_
 // Eq. 8: the penumbra radius R_s on the receiver for an occluder at d, the light at D.
 float penumbra(float d, float D) { return pc.light_size * d / max(D - d, SHADOWS_ISG_MIN_GAP * D); }
 
-// A foreground receiver: its position (P − eye), distance to the light, direction to it and
-// the world size of a pixel there (Camera::pixel_size_at) shrunk by cos θ_i: the penumbra's
-// stretch along the receiver.
+// A foreground receiver: its position (P − eye), distance to the light, direction to it, the
+// world size of a pixel there (Camera::pixel_size_at) shrunk by c = cos θ_i (the receiver's
+// normal from P's screen derivatives, one-sided next to a silhouette; c at least
+// 1 / SHADOWS_ISG_MAX_STRETCH), and the screen direction `dir` of the light's direction projected onto
+// the receiver. The penumbra's footprint on the receiver (the disk of radius R_s across the ray,
+// projected along it) is an ellipse: R_s / c along that direction, R_s across it (issue 19).
 struct Recv {
   vec3 P0, wl;
-  float D, pix, inv_pix;
+  float D, pix, inv_pix, c;
+  vec2 dir;
 };
 Recv receiver(uvec2 p, vec3 P0) {
   Recv R;
   R.P0 = P0;
-  float z = max(-(rot() * P0).z, 1e-6);
+  vec3 cc = rot() * P0;
+  float z = max(-cc.z, 1e-6);
   R.D = length(light() - P0);
   R.wl = (light() - P0) / max(R.D, 1e-20);
-  R.pix = z / pc.f_px * cos_incidence(p, P0, R.wl);
+  R.c = 1.0;
+  R.dir = vec2(1.0, 0.0);
+  vec3 n = cross(axis_diff(p, P0, uvec2(1u, 0u)), axis_diff(p, P0, uvec2(0u, 1u)));
+  float ln = length(n);
+  if (ln > 0.0) {
+    n /= ln;
+    R.c = max(abs(dot(n, R.wl)), 1.0 / SHADOWS_ISG_MAX_STRETCH);
+    // The screen image of t = wl − (wl·n) n at P0 (the derivative of the projection).
+    vec3 dc = rot() * (R.wl - dot(R.wl, n) * n);
+    vec2 d = vec2(dc.z * cc.x - cc.z * dc.x, cc.z * dc.y - dc.z * cc.y);
+    if (dot(d, d) > 1e-20) R.dir = normalize(d);
+  }
+  R.pix = z / pc.f_px * R.c;
   R.inv_pix = 1.0 / R.pix;
   return R;
 }
-// The sample lattice's rotation at p (the pixel hash), scaled by a radius.
-mat2 lattice(uvec2 p, float radius) {
+// The sample lattice at p for a footprint of `raw` pixels along R.dir (R_s / R.pix, unclamped):
+// the unit lattice turned by the pixel's hash angle, then stretched to the ellipse of radii
+// min(raw, max_radius) along R.dir and min(raw·c, max_radius) across it, so that every sample
+// lands where the penumbra can reach (a disk of the long radius would waste 1 − c of them).
+mat2 lattice(uvec2 p, Recv R, float raw) {
   float ang = (pc.flags & SHADOWS_ISG_ROTATE) != 0u ? isg_pixel_angle(p + uvec2(pc.origin & 0xffffu, pc.origin >> 16)) : 0.0;
   float ca = cos(ang), sa = sin(ang);
-  return radius * mat2(ca, sa, -sa, ca);
+  float a = min(raw, pc.max_radius), b = min(raw * R.c, pc.max_radius), o = (a - b) * R.dir.x * R.dir.y;
+  mat2 E = mat2(a * R.dir.x * R.dir.x + b * R.dir.y * R.dir.y, o, o, a * R.dir.y * R.dir.y + b * R.dir.x * R.dir.x);
+  return E * mat2(ca, sa, -sa, ca);
 }
 
-// Parameter search (eq. 4, 6, 7) at p over radius Rp: occluder distances weighted by
+// Parameter search (eq. 4, 6, 7) at p over the footprint of Rp pixels (unclamped, along R.dir): occluder distances weighted by
 // r = gaussian · inShadow, the centre tap included. The mean occluder distance, or -1 where no
 // occluder is within reach (the hard shadow stands).
 // The sums of lattice samples part, part + parts, ... (the centre tap in part 0): a quad's
@@ -121,7 +138,7 @@ vec2 search_sums(Recv R, uvec2 p, uint i, float Rp, uint part, uint parts) {
   vec2 p0 = vec2(p + uvec2(pc.origin & 0xffffu, pc.origin >> 16)) + 0.5;  // frame coordinates
   ivec2 org = ivec2(pc.origin & 0xffffu, pc.origin >> 16);
   uint grid_search = pc.grids & 0xffffu;
-  mat2 Rot = lattice(p, Rp);
+  mat2 Rot = lattice(p, R, Rp);
   for (uint k = part; k < grid_search * grid_search; k += parts) {
     vec2 x = p0 + Rot * samples[k] - 0.5;
     vec2 x0 = floor(x), f = x - x0;
@@ -159,12 +176,12 @@ float search(Recv R, uvec2 p, uint i, float Rp) { return search_mean(search_sums
 // in the search: the shadow bits are a binary signal, and point taps of them alias (issue 18:
 // isg-synth contact's error rose 40 % with point taps in the gather, shared contact's 7 % at 9
 // search samples with point taps in the search).
-vec2 gather_sums(Recv R, uvec2 p, uint i, float Rs, float Rg, uint part, uint parts) {
+vec2 gather_sums(Recv R, uvec2 p, uint i, float Rs, uint part, uint parts) {
   float sum = part == 0u ? shadow_in[i] : 0.0, ws = part == 0u ? 1.0 : 0.0;
   vec2 p0 = vec2(p + uvec2(pc.origin & 0xffffu, pc.origin >> 16)) + 0.5;
   ivec2 org = ivec2(pc.origin & 0xffffu, pc.origin >> 16);
   uint grid_search = pc.grids & 0xffffu, grid_gather = pc.grids >> 16;
-  mat2 Rog = lattice(p, Rg);
+  mat2 Rog = lattice(p, R, Rs * R.inv_pix);
   for (uint k = part; k < grid_gather * grid_gather; k += parts) {
     vec2 x = p0 + Rog * samples[grid_search * grid_search + k] - 0.5;
     vec2 x0 = floor(x), f = x - x0;
@@ -184,8 +201,8 @@ vec2 gather_sums(Recv R, uvec2 p, uint i, float Rs, float Rg, uint part, uint pa
   }
   return vec2(sum, ws);
 }
-float gather(Recv R, uvec2 p, uint i, float Rs, float Rg) {
-  vec2 s = gather_sums(R, p, i, Rs, Rg, 0u, 1u);
+float gather(Recv R, uvec2 p, uint i, float Rs) {
+  vec2 s = gather_sums(R, p, i, Rs, 0u, 1u);
   return s.x / s.y;
 }
 
@@ -226,7 +243,7 @@ float shade(uvec2 p, uint i, bool full, Recv R, float d_loc) {
   uint qs = l.y * QUADS + l.x, r = q_rep[qs];
   float d = q_d[qs];
   if (r != i && range_l2(dot(pack[r].xyz - R.P0, pack[r].xyz - R.P0)) < SHADOWS_ISG_QUAD_SAME) {
-    d = search(R, p, i, min(Rp_raw, pc.max_radius));
+    d = search(R, p, i, Rp_raw);
     atomicAdd(s_stat[SHADOWS_ISG_STAT_SEARCHES], 1u);
   }
   float out_;
@@ -239,7 +256,7 @@ float shade(uvec2 p, uint i, bool full, Recv R, float d_loc) {
     clamped = clamped || Rg_raw > pc.max_radius;
     float Rg = min(Rg_raw, pc.max_radius);
     if (!(Rg >= SHADOWS_ISG_REUSE_RADIUS && reuse(R.P0, Rg, out_))) {
-      out_ = gather(R, p, i, Rs, Rg);
+      out_ = gather(R, p, i, Rs);
       atomicAdd(s_stat[SHADOWS_ISG_STAT_GATHERS], 1u);
     }
   }
@@ -309,7 +326,7 @@ void main() {
     Recv Rr;
     if (r != NO_REP) {
       Rr = receiver(rp, pack[r].xyz);
-      float Rp = min(d_loc > 0.0 ? penumbra(d_loc, Rr.D) / Rr.pix : 0.0, pc.max_radius);
+      float Rp = d_loc > 0.0 ? penumbra(d_loc, Rr.D) / Rr.pix : 0.0;
       q_part[part][q] = search_sums(Rr, rp, r, Rp, part, QUAD_PARTS);
     }
     barrier();
@@ -323,7 +340,7 @@ void main() {
     }
     bool wide = d >= 0.0 && Rg >= SHADOWS_ISG_REUSE_RADIUS;
     barrier();
-    if (wide) q_part[part][q] = gather_sums(Rr, rp, r, Rs, Rg, part, QUAD_PARTS);
+    if (wide) q_part[part][q] = gather_sums(Rr, rp, r, Rs, part, QUAD_PARTS);
     barrier();
     if (part == 0u) {
       q_rep[q] = r;

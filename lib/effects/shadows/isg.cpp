@@ -48,8 +48,7 @@ struct Ctx {
     double u = l / s.scene_radius;
     return std::exp(-u * u / s.sigma);
   }
-  // cos θ_i of the receiver at (x, y): the normal from P's screen derivatives (one-sided next to
-  // a silhouette), clamped to SHADOWS_ISG_MIN_COS.
+  // P's screen derivative at (x, y) along (ex, ey), one-sided next to a silhouette.
   V3 axis_diff(int x, int y, V3 P0, int ex, int ey) const {
     const int ax = x - ex, ay = y - ey, bx = x + ex, by = y + ey;
     const bool ha = ax >= 0 && ay >= 0 && fg(size_t(ay) * in.w + ax);
@@ -63,12 +62,34 @@ struct Ctx {
     }
     return ha ? g : f;
   }
-  double cos_incidence(int x, int y, V3 P0, V3 wl) const {
+  // The receiver's incidence at (x, y): c = cos θ_i (at least 1 / SHADOWS_ISG_MAX_STRETCH) and the
+  // screen direction of the light's direction projected onto the receiver, along which the
+  // penumbra's footprint is stretched by 1 / c (an ellipse).
+  struct Incidence {
+    double c = 1.0;
+    V2 dir = {1.0, 0.0};
+  };
+  Incidence incidence(int x, int y, V3 P0, V3 wl) const {
+    Incidence r;
     const V3 a = axis_diff(x, y, P0, 1, 0), b = axis_diff(x, y, P0, 0, 1);
-    const V3 nn = {a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]};
+    V3 nn = {a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]};
     const double ln = len3(nn);
-    if (!(ln > 0.0)) return 1.0;
-    return std::max(std::abs(nn[0] * wl[0] + nn[1] * wl[1] + nn[2] * wl[2]) / ln, SHADOWS_ISG_MIN_COS);
+    if (!(ln > 0.0)) return r;
+    nn = {nn[0] / ln, nn[1] / ln, nn[2] / ln};
+    const double wn = nn[0] * wl[0] + nn[1] * wl[1] + nn[2] * wl[2];
+    r.c = std::max(std::abs(wn), 1.0 / SHADOWS_ISG_MAX_STRETCH);
+    // The screen image of t = wl − (wl·n) n at P0: the derivative of the projection.
+    const V3 t = {wl[0] - wn * nn[0], wl[1] - wn * nn[1], wl[2] - wn * nn[2]};
+    const auto& m = s.rot;
+    auto cam = [&](V3 v) {
+      return V3{m[0] * v[0] + m[1] * v[1] + m[2] * v[2], m[3] * v[0] + m[4] * v[1] + m[5] * v[2],
+                m[6] * v[0] + m[7] * v[1] + m[8] * v[2]};
+    };
+    const V3 cc = cam(sub(P0, s.eye)), dc = cam(t);
+    const V2 d = {dc[2] * cc[0] - cc[2] * dc[0], cc[2] * dc[1] - dc[2] * cc[1]};
+    const double dd = d[0] * d[0] + d[1] * d[1];
+    if (dd > 1e-20) r.dir = {d[0] / std::sqrt(dd), d[1] / std::sqrt(dd)};
+    return r;
   }
   // The distance in the penumbra's cross-section: d projected along the light direction wl onto
   // the plane across the ray (sphere lights) or onto the light's own plane (disk and rect).
@@ -134,9 +155,7 @@ std::vector<float> shadows_isg_reference(const ShadowInputs& in, const ShadowSet
       // The reach of the widest penumbra in the image bounds the tiles to look at.
       // World size of a pixel at the receiver (Camera::pixel_size_at) shrunk by cos θ_i: the
       // penumbra's stretch along the receiver.
-      auto pixel_size = [&](int x, int y, V3 P0, V3 wl) {
-        return std::max(c.eye_depth(P0), 1e-6) / s.f_px * c.cos_incidence(x, y, P0, wl);
-      };
+      auto pixel_size = [&](V3 P0, double cos_i) { return std::max(c.eye_depth(P0), 1e-6) / s.f_px * cos_i; };
       auto light_dir = [&](V3 P0) {
         const V3 v = sub(s.light, P0);
         const double D = std::max(len3(v), 1e-20);
@@ -148,7 +167,7 @@ std::vector<float> shadows_isg_reference(const ShadowInputs& in, const ShadowSet
           const size_t i = size_t(y) * in.w + x;
           if (!c.fg(i) || !(d_max > 0.0f)) continue;
           const V3 P0 = c.position(i);
-          const double rp = c.penumbra(d_max, len3(sub(s.light, P0))) / pixel_size(x, y, P0, light_dir(P0));
+          const double rp = c.penumbra(d_max, len3(sub(s.light, P0))) / pixel_size(P0, c.incidence(x, y, P0, light_dir(P0)).c);
           rp_tile = std::max(rp_tile, std::min(rp, s.max_radius));
         }
       // The tiles the search and the gather can reach (radius + 1 for the bilinear taps).
@@ -173,18 +192,28 @@ std::vector<float> shadows_isg_reference(const ShadowInputs& in, const ShadowSet
       struct Recv {
         V3 P0, wl;
         double D, pix;
+        Ctx::Incidence inc;
       };
       auto receiver = [&](int x, int y) {
         Recv R;
         R.P0 = c.position(size_t(y) * in.w + x);
         R.D = len3(sub(s.light, R.P0));
         R.wl = light_dir(R.P0);
-        R.pix = pixel_size(x, y, R.P0, R.wl);
+        R.inc = c.incidence(x, y, R.P0, R.wl);
+        R.pix = pixel_size(R.P0, R.inc.c);
         return R;
       };
-      auto rotation = [&](int x, int y) {
+      // The lattice point cs at (x, y) for a footprint of `raw` pixels along R's direction
+      // (unclamped): turned by the pixel's hash angle, then stretched to the ellipse of radii
+      // min(raw, max_radius) along it and min(raw·c, max_radius) across it.
+      auto offset = [&](int x, int y, const Recv& R, double raw, V2 cs) {
         const double ang = s.rotate ? pixel_angle(uint32_t(x), uint32_t(y)) : 0.0;
-        return V2{std::cos(ang), std::sin(ang)};
+        const double ca = std::cos(ang), sa = std::sin(ang);
+        const V2 u = {ca * cs[0] - sa * cs[1], sa * cs[0] + ca * cs[1]};
+        const double a = std::min(raw, s.max_radius), b = std::min(raw * R.inc.c, s.max_radius);
+        const V2 d = R.inc.dir;
+        const double along = d[0] * u[0] + d[1] * u[1], across = -d[1] * u[0] + d[0] * u[1];
+        return V2{x + 0.5 + a * along * d[0] - b * across * d[1], y + 0.5 + a * along * d[1] + b * across * d[0]};
       };
       // Eq. 5: R_p covers the widest penumbra the occluders around can cast (unclamped).
       auto search_radius = [&](const Recv& R) { return d_loc > 0.0f ? c.penumbra(d_loc, R.D) / R.pix : 0.0; };
@@ -192,8 +221,6 @@ std::vector<float> shadows_isg_reference(const ShadowInputs& in, const ShadowSet
       // -1 where no occluder is within reach.
       auto search = [&](int x, int y, const Recv& R, double Rp) {
         const size_t i = size_t(y) * in.w + x;
-        const V2 p0 = {x + 0.5, y + 0.5}, cs_ = rotation(x, y);
-        const double ca = cs_[0], sa = cs_[1];
         const double s0 = in.shadow[i], o0 = in.occluder[i];
         double sw = 0.0, swd = 0.0;
         if (s0 < 1.0 && o0 > 0.0) {
@@ -201,8 +228,7 @@ std::vector<float> shadows_isg_reference(const ShadowInputs& in, const ShadowSet
           swd = sw * o0;
         }
         for (int k = 0; k < s.grid_search * s.grid_search; ++k) {
-          const V2 cs = concentric(k, s.grid_search);
-          const V2 q = {p0[0] + Rp * (ca * cs[0] - sa * cs[1]), p0[1] + Rp * (sa * cs[0] + ca * cs[1])};
+          const V2 q = offset(x, y, R, Rp, concentric(k, s.grid_search));
           size_t t[4];
           double bw[4];
           c.taps(q, t, bw);
@@ -226,14 +252,11 @@ std::vector<float> shadows_isg_reference(const ShadowInputs& in, const ShadowSet
       };
       // Gather (eq. 4): uniform over the points within R_s of p_0 across the light direction
       // (the penumbra's footprint on the receiver).
-      auto gather = [&](int x, int y, const Recv& R, double Rs, double Rg) {
+      auto gather = [&](int x, int y, const Recv& R, double Rs) {
         const size_t i = size_t(y) * in.w + x;
-        const V2 p0 = {x + 0.5, y + 0.5}, cs_ = rotation(x, y);
-        const double ca = cs_[0], sa = cs_[1];
         double sum = in.shadow[i], ws = 1.0;
         for (int k = 0; k < s.grid_gather * s.grid_gather; ++k) {
-          const V2 cs = concentric(k, s.grid_gather);
-          const V2 q = {p0[0] + Rg * (ca * cs[0] - sa * cs[1]), p0[1] + Rg * (sa * cs[0] + ca * cs[1])};
+          const V2 q = offset(x, y, R, Rs / R.pix, concentric(k, s.grid_gather));
           size_t t[4];
           double bw[4];
           c.taps(q, t, bw);
@@ -267,11 +290,11 @@ std::vector<float> shadows_isg_reference(const ShadowInputs& in, const ShadowSet
           }
           if (Q.rep == size_t(-1)) continue;
           const Recv R = receiver(rx, ry);
-          Q.d = search(rx, ry, R, std::min(search_radius(R), s.max_radius));
+          Q.d = search(rx, ry, R, search_radius(R));
           ++st.searches;
           if (Q.d < 0.0) continue;
           const double Rs = c.penumbra(Q.d, R.D), Rg = std::min(Rs / R.pix, s.max_radius);
-          if (Rg >= SHADOWS_ISG_REUSE_RADIUS) Q.Rg = Rg, Q.g = gather(rx, ry, R, Rs, Rg), ++st.gathers;
+          if (Rg >= SHADOWS_ISG_REUSE_RADIUS) Q.Rg = Rg, Q.g = gather(rx, ry, R, Rs), ++st.gathers;
         }
       auto same_surface = [&](size_t r, V3 P0) {
         return c.range_l(len3(sub(c.position(r), P0))) >= SHADOWS_ISG_QUAD_SAME;
@@ -304,7 +327,7 @@ std::vector<float> shadows_isg_reference(const ShadowInputs& in, const ShadowSet
           // The search: the quad representative's, unless the pixel lies on another surface.
           const Quad& Q = quads[size_t((y - y0) / 2) * kQuads + size_t((x - x0) / 2)];
           double d = Q.d;
-          if (Q.rep != i && !same_surface(Q.rep, R.P0)) d = search(x, y, R, std::min(Rp_raw, s.max_radius)), ++st.searches;
+          if (Q.rep != i && !same_surface(Q.rep, R.P0)) d = search(x, y, R, Rp_raw), ++st.searches;
           if (d >= 0.0) {
             // Eq. 8-9.
             const double Rs = c.penumbra(d, R.D);
@@ -315,7 +338,7 @@ std::vector<float> shadows_isg_reference(const ShadowInputs& in, const ShadowSet
             if (Rg >= SHADOWS_ISG_REUSE_RADIUS && reuse(x, y, R.P0, Rg, m)) {
               out[i] = float(m);
             } else {
-              out[i] = float(gather(x, y, R, Rs, Rg));
+              out[i] = float(gather(x, y, R, Rs));
               ++st.gathers;
             }
           }
