@@ -12,12 +12,12 @@ Cases: every folder with ref/softshadow_key.exr under --cases (default ../shared
 Cycles cases, rendered by tools/cases/make_cases.sh); a folder that is absent is skipped.
 
     python3 bench/shadow_cases.py [--build build] [--cases DIR] [--own DIR] [--only a,b]
-                                  [--methods isg,pcss,vssm,cssm] [--keep DIR] [--from-json]
+                                  [--methods isg,pcss,vssm,cssm,auto] [--keep DIR] [--from-json]
 
 --keep DIR keeps every output EXR (DIR/CASE/METHOD-INPUT.exr) and writes an error heat-map
 next to it (full scale 3x doing nothing's RMSE), for looking at what breaks.
 Writes bench/out/shadow_cases.json and docs/benchmark/shadow_cases.md."""
-import argparse, os, platform, subprocess, sys
+import argparse, os, platform, re, subprocess, sys
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 sys.path.insert(0, HERE)
@@ -28,7 +28,7 @@ ap.add_argument("--build", default="build")
 ap.add_argument("--cases", default=SHARED_CASES)
 ap.add_argument("--own", default=os.environ.get("ISG_OWN_CASES", os.path.join(HERE, "..", "..", "cases-own")))
 ap.add_argument("--only", default="", help="comma-separated case names (folder names)")
-ap.add_argument("--methods", default="isg,pcss,vssm,cssm")
+ap.add_argument("--methods", default="isg,pcss,vssm,cssm,auto")
 ap.add_argument("--keep", help="keep outputs and heat-maps under this folder")
 ap.add_argument("--set", action="append", default=[], help="a parameter for every run: section.key=value")
 ap.add_argument("--from-json", action="store_true", help="rewrite the page from bench/out/shadow_cases.json")
@@ -85,6 +85,9 @@ def measure(t, label, case, methods):
                 print(label, key, "failed:", res["failed"][key], flush=True)
                 continue
             res["device"] = r["device"]
+            if m == "auto":  # the method it chose, and why (its printed line)
+                c = re.search(r"^shadows\[key\]: (\S+) \(auto: (.*)\)$", r["text"], re.M)
+                res.setdefault("auto", {})[inp] = [c.group(1), c.group(2)] if c else ["?", ""]
             hard = res["rmse"].get(f"hard-{inp}")
             heat = os.path.join(keep, f"{key}.png") if keep else None
             e = compare(t, r["out"], ref, ["key.softshadow"], "mask", heatmap=heat,
@@ -135,6 +138,11 @@ def report(res):
         r = cases[n]
         f = lambda k: "failed" if k in r["failed"] else (f"{r['rmse'][k]:.4f}" if k in r["rmse"] else "-")
         L.append(f"| {n} | {f('hard-P')} | " + " | ".join(f"{f(m + '-P')} | {f(m + '-Z')}" for m in methods) + " |")
+    if "auto" in methods:
+        L += ["", "`shadows.method=auto`'s choice on each case (what `isg run` prints), from P / from Z:", ""]
+        for n in names:
+            ch = cases[n].get("auto", {})
+            L.append(f"- {n}: " + " / ".join(f"**{ch[i][0]}** ({ch[i][1]})" if i in ch else "-" for i in INPUTS))
     fails = [(n, k, msg) for n in names for k, msg in cases[n]["failed"].items()]
     if fails:
         L += ["", "Failed runs (isg's one-line error):", ""] + [f"- {n}, {k}: `{msg}`" for n, k, msg in fails]

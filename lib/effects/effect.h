@@ -7,6 +7,7 @@
 #pragma once
 
 #include <cstdint>
+#include <map>
 #include <memory>
 #include <set>
 #include <string>
@@ -69,6 +70,11 @@ std::shared_ptr<T> make_instance(const std::string& effect, const std::string& k
 }
 
 // What the planner gives every effect.
+// What an effect chose from a frame's pixels for a setting left to it (shadows.method = auto),
+// by name (e.g. "shadows[key]" -> "pcss", "shadows[key]/why" -> the reason): made once per frame
+// after the pixels are read, and taken by every plan of that frame (its tiles' too).
+using Choices = std::map<std::string, std::string>;
+
 struct PlanContext {
   const io::Roles& roles;
   const io::Scene& scene;
@@ -76,6 +82,12 @@ struct PlanContext {
   int width = 0, height = 0;
   const io::Camera* camera = nullptr;  // the given camera, else the scene file's (may be null)
   Window window;
+  const Choices* choices = nullptr;  // null until the frame's pixels are read
+  const std::string* choice(const std::string& key) const {
+    if (!choices) return nullptr;
+    auto it = choices->find(key);
+    return it == choices->end() ? nullptr : &it->second;
+  }
   int view_w() const { return window.whole() ? width : window.frame_w; }
   int view_h() const { return window.whole() ? height : window.frame_h; }
   // "position" when the input has P, else "depth" (with its plane count).
@@ -143,6 +155,9 @@ class Effect {
                                                  bool has_camera) const = 0;
   // Statuses, instances, resources and passes for this input and preset.
   virtual void plan(const PlanContext& c, PlanOut& out) const = 0;
+  // Settings the preset leaves to the inputs, chosen from the frame's pixels (the whole frame,
+  // once); the frame is then planned again with them.
+  virtual void choose(const PlanContext& /*c*/, const io::Image& /*img*/, Choices& /*out*/) const {}
   // The load stage: files an instance reads besides the input (a light's shadow map), read
   // once per frame; one warning line each for what was repaired.
   virtual void load(Instance&, std::set<std::string>& /*warnings*/) const {}

@@ -64,8 +64,19 @@ std::vector<EffectStatus> capabilities(const io::Roles& roles, const io::Scene& 
   return out;
 }
 
+effects::Choices choose_from_pixels(const io::Roles& roles, const io::Scene& scene,
+                                    const params::Params& p, const io::Image& img,
+                                    const io::Camera* camera) {
+  const io::Camera* cam = camera ? camera : (scene.camera ? &*scene.camera : nullptr);
+  const effects::PlanContext c{roles, scene, p, img.width, img.height, cam, {}};
+  effects::Choices out;
+  for (const effects::Effect* e : effects::all_effects()) e->choose(c, img, out);
+  return out;
+}
+
 Plan make_plan(const io::Roles& roles, const io::Scene& scene, const params::Params& p,
-               int width, int height, const io::Camera* camera, const effects::Window& window) {
+               int width, int height, const io::Camera* camera, const effects::Window& window,
+               const effects::Choices* choices) {
   Plan plan;
   plan.width = width;
   plan.height = height;
@@ -75,7 +86,7 @@ Plan make_plan(const io::Roles& roles, const io::Scene& scene, const params::Par
   }
   const uint64_t plane_bytes = uint64_t(width) * uint64_t(height) * sizeof(float);
   const io::Camera* cam = camera ? camera : (scene.camera ? &*scene.camera : nullptr);
-  const effects::PlanContext c{roles, scene, p, width, height, cam, window};
+  const effects::PlanContext c{roles, scene, p, width, height, cam, window, choices};
   effects::PlanOut out(plan.resources, plan.passes, plan.effects, plan.instances, plane_bytes);
   for (const effects::Effect* e : effects::all_effects()) e->plan(c, out);
   // A tile of a larger frame: every setting takes the window.

@@ -50,8 +50,15 @@ std::vector<EffectStatus> capabilities(const io::Roles& roles, const io::Scene& 
 // `camera`: the scene file's, else the EXR header's (null: the scene file's, if any).
 // `window`: the image is a tile of a larger frame (large plates, lib/run/job.cpp); the
 // settings take the frame's focal length and principal point and the tile's hash origin.
+// `choices`: what the effects chose from the frame's pixels (choose_from_pixels), else null.
 Plan make_plan(const io::Roles& roles, const io::Scene& scene, const params::Params& p,
                int width, int height, const io::Camera* camera = nullptr,
-               const effects::Window& window = {});
+               const effects::Window& window = {}, const effects::Choices* choices = nullptr);
+
+// The effects' choices from a frame's pixels (its header's plan inputs); empty where the preset
+// leaves nothing to them.
+effects::Choices choose_from_pixels(const io::Roles& roles, const io::Scene& scene,
+                                    const params::Params& p, const io::Image& img,
+                                    const io::Camera* camera);
 
 }  // namespace isg::plan

@@ -59,7 +59,7 @@ void plan_image(const JobConfig& job, LoadedFrame& f) {
   if (!f.camera) f.camera = io::camera_from_header(f.img);
   choose_positions(job, f);
   f.plan = plan::make_plan(f.roles, job.scene, job.params, f.img.width, f.img.height,
-                           f.camera ? &*f.camera : nullptr);
+                           f.camera ? &*f.camera : nullptr, {}, f.choices.empty() ? nullptr : &f.choices);
 }
 
 // The load stage of the effects: files they read besides the input, once per frame.
@@ -73,9 +73,19 @@ void check_missing(const LoadedFrame& f) {
   }
 }
 
+// Settings left to the pixels (shadows.method = auto): chosen once from the whole frame, which
+// is then planned again with them.
+void choose_from_pixels(const JobConfig& job, LoadedFrame& f) {
+  f.choices = plan::choose_from_pixels(f.roles, job.scene, job.params, f.img, f.camera ? &*f.camera : nullptr);
+  if (f.choices.empty()) return;
+  plan_image(job, f);
+  check_missing(f);
+}
+
 // Pixels as the passes take them: NaN/Inf to 0, the beauty scene-linear.
 void prepare_pixels(const JobConfig& job, LoadedFrame& f) {
   f.nonfinite = io::sanitize(f.img);
+  choose_from_pixels(job, f);
   if (!f.positions.empty()) f.img.attributes.attribute("isg:positions", f.positions);
   load_effects(f);
   if (!job.input_colorspace.empty()) {
@@ -186,7 +196,8 @@ Stats execute_tiled(Runner& runner, const JobConfig& job, LoadedFrame& f, int ed
       io::Image piece = crop(f.img, x0, y0, x1 - x0, y1 - y0);
       plan::Plan plan = plan::make_plan(f.roles, job.scene, job.params, x1 - x0, y1 - y0,
                                         f.camera ? &*f.camera : nullptr,
-                                        effects::Window{x0, y0, W, H});
+                                        effects::Window{x0, y0, W, H},
+                                        f.choices.empty() ? nullptr : &f.choices);
       for (auto& t : plan.instances)
         if (const effects::Instance* fi = f.plan.instance(t->key))
           effects::effect_named(t->effect).from_frame(*t, *fi);

@@ -38,6 +38,7 @@ struct LoadedFrame {
   std::vector<io::NonFinite> nonfinite;
   std::set<std::string> warnings;  // from the load stage (e.g. NaN depths in a shadow map)
   std::string positions;  // where input.positions took positions from other than P (isg:positions)
+  effects::Choices choices;  // the effects' choices from the pixels (shadows.method = auto)
   double read_ms = 0;
 };
 

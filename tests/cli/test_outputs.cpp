@@ -48,6 +48,11 @@ const std::vector<OutputRun>& runs() {
       {"case:contact", "shadows-vssm", "--set shadows.method=vssm"},
       {"case:contact", "shadows-cssm", "--set shadows.method=cssm"},
       {"case:contact", "tiled", "--set limits.tile_size=128"},
+      // shadows.method = auto: pcss here (its channels hash as shadows-pcss's), in tiles too
+      // (one choice for the frame); pcss 1e5 from the origin as well, where this map's texels
+      // (about 4 cm) are over four float32 steps (7.8 mm).
+      {"case:contact", "shadows-auto", "--set shadows.method=auto"},
+      {"case:contact", "shadows-auto-tiled", "--set shadows.method=auto --set limits.tile_size=128"},
       {"case:contact", "film", "--preset film"},
       {"case:rowdepth", "default", ""},
       {"case:rowdepth", "shadows-pcss", "--set shadows.method=pcss"},
@@ -72,6 +77,7 @@ const std::vector<OutputRun>& runs() {
       {"synth:dof", "dof-isg", "--set dof.method=isg"},
       {"synth:dof", "dof-layered", "--set dof.method=layered"},
       {"synth:far-world", "default", ""},
+      {"synth:far-world", "shadows-auto", "--set shadows.method=auto"},
       {"synth:grazing", "default", ""},
       {"synth:depth-range", "default", ""},
       {"synth:depth-range", "shadows-pcss", "--set shadows.method=pcss"},

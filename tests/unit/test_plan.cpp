@@ -1,6 +1,10 @@
 #include <gtest/gtest.h>
 
+#include <array>
+#include <cstdio>
+
 #include "effects/params.h"
+#include "io/image.h"
 #include "io/roles.h"
 #include "plan/plan.h"
 
@@ -52,4 +56,101 @@ TEST(Plan, MissingBeautyIsReported) {
   auto plan = isg::plan::make_plan(roles_of({"Z"}), {}, isg::effects::default_params(), 8, 4);
   ASSERT_FALSE(plan.missing.empty());
   EXPECT_NE(plan.missing[0].find("beauty"), std::string::npos);
+}
+
+// shadows.method = auto (issue 19): a floor seen from above, lit from overhead, from 6 degrees
+// above its horizon, and overhead again 1e5 m from the world origin.
+namespace {
+struct AutoFloor {
+  double ox = 0, oy = 0;                // the scene's offset from the world origin
+  std::array<double, 3> light{0, 0, 4};  // relative to the offset
+  int w = 64, h = 48;
+  isg::io::Image image() const {
+    isg::io::Image img;
+    img.width = w;
+    img.height = h;
+    for (const char* c : {"R", "G", "B", "A", "P.X", "P.Y", "P.Z", "key.shadow", "key.direct.R",
+                          "key.direct.G", "key.direct.B", "key.occluder"})
+      img.channels.push_back({c, isg::io::Storage::f32, std::vector<float>(size_t(w) * h, 1.0f)});
+    for (int y = 0; y < h; ++y)
+      for (int x = 0; x < w; ++x) {
+        const size_t i = size_t(y) * w + x;
+        img.find("P.X")->data[i] = float(ox + 0.05 * x - 1.6);
+        img.find("P.Y")->data[i] = float(oy + 1.2 - 0.05 * y);
+        img.find("P.Z")->data[i] = 0.0f;
+      }
+    return img;
+  }
+  isg::io::Scene scene() const {
+    isg::io::Scene s;
+    isg::io::Camera cam;
+    cam.world_to_camera = isg::io::identity4();
+    cam.world_to_camera[3] = -ox;
+    cam.world_to_camera[7] = -(oy - 1.0);
+    cam.world_to_camera[11] = -5.0;  // above the floor, looking down
+    cam.yfov_deg = 40.0;
+    cam.width = w;
+    cam.height = h;
+    s.camera = cam;
+    isg::io::Light l;
+    l.name = "key";
+    l.type = isg::io::LightType::sphere;
+    l.radius = 0.3;
+    l.position = {ox + light[0], oy + light[1], light[2]};
+    isg::io::ShadowMap sm;
+    sm.file = "shadowmap_key.exr";
+    sm.yfov_deg = 90.0;
+    sm.width = sm.height = 1024;
+    l.shadowmap = sm;
+    s.lights.push_back(l);
+    return s;
+  }
+};
+
+isg::effects::EffectStatus auto_status(const AutoFloor& f) {
+  auto p = isg::effects::default_params();
+  p.set_text("shadows.method", "auto", "test");
+  const auto img = f.image();
+  const auto scene = f.scene();
+  const auto roles = roles_of(img.channel_names());
+  const auto choices = isg::plan::choose_from_pixels(roles, scene, p, img, nullptr);
+  const auto plan = isg::plan::make_plan(roles, scene, p, f.w, f.h, nullptr, {}, &choices);
+  for (const auto& e : plan.effects)
+    if (e.effect == "shadows[key]") return e;
+  return {};
+}
+}  // namespace
+
+TEST(Plan, AutoShadowMethodPicksPcssOrIsgFromThePixels) {
+  AutoFloor overhead;
+  auto st = auto_status(overhead);
+  std::printf("overhead: %s (%s)\n", st.method.c_str(), st.why.c_str());
+  EXPECT_TRUE(st.runs);
+  EXPECT_EQ(st.method, "pcss");
+  EXPECT_NE(st.why.find("auto: the light stands"), std::string::npos);
+
+  AutoFloor grazing;
+  grazing.light = {-10.0, 0.0, 1.0};  // 5.7 degrees above the floor's middle
+  st = auto_status(grazing);
+  std::printf("grazing: %s (%s)\n", st.method.c_str(), st.why.c_str());
+  EXPECT_EQ(st.method, "isg");
+  EXPECT_NE(st.why.find("grazes"), std::string::npos);
+
+  AutoFloor far;
+  far.ox = far.oy = 1e5;
+  st = auto_status(far);
+  std::printf("far: %s (%s)\n", st.method.c_str(), st.why.c_str());
+  EXPECT_EQ(st.method, "isg");
+  EXPECT_NE(st.why.find("world origin"), std::string::npos);
+
+  // Before the pixels are read (a dry run): isg, and the status says the choice is pending.
+  auto p = isg::effects::default_params();
+  p.set_text("shadows.method", "auto", "test");
+  const auto img = overhead.image();
+  const auto plan = isg::plan::make_plan(roles_of(img.channel_names()), overhead.scene(), p, 64, 48);
+  ASSERT_TRUE(plan.instance("shadows[key]"));
+  for (const auto& e : plan.effects)
+    if (e.effect == "shadows[key]") {
+      EXPECT_EQ(e.why, "auto: isg or pcss, chosen when the pixels are read");
+    }
 }

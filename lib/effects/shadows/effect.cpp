@@ -7,6 +7,7 @@
 #include "effects/composite/effect.h"
 #include "effects/shadows/instance.h"
 #include "effects/shadows/params.h"
+#include "effects/shadows/settings.h"
 #include "io/image.h"
 #include "shadows_isg_io.h"
 
@@ -33,13 +34,15 @@ class Shadows final : public Effect {
 
   std::vector<params::Def> params() const override {
     return {
-      params::def(shadow_keys::method, "isg", {"none", "hard", "isg", "pcss", "vssm", "cssm"},
+      params::def(shadow_keys::method, "isg", {"none", "hard", "isg", "pcss", "vssm", "cssm", "auto"},
        "soft-shadow method for every light with L.shadow and L.direct: isg (the paper's "
        "parameter search and gather, eq. 4-9; needs P or Z, the camera, the light's scene entry "
        "and L.occluder, which the light's shadow map provides where the input has none), hard (keep the input's hard shadow), pcss (percentage-closer "
        "soft shadows from the light's shadow map, thesis §2.4.2), vssm (variance soft shadow "
        "maps, thesis ch. 7), cssm (convolution soft shadow maps, thesis ch. 5); the shadow-map "
-       "methods need P, or Z and the camera, and the light's shadowmap in the scene file"),
+       "methods need P, or Z and the camera, and the light's shadowmap in the scene file; auto "
+       "(per light, from the frame's pixels: pcss where the light stands above most receivers "
+       "near the world origin, else isg; the choice and why are printed)"),
       params::def(shadow_keys::search_samples, "25", 1, 1024,
        "parameter-search samples per pixel, rounded to a square grid through the concentric "
        "disk map (rotated per pixel)"),
@@ -146,11 +149,30 @@ class Shadows final : public Effect {
     return out;
   }
 
+  // shadows.method = auto: each light's method from the frame's pixels.
+  void choose(const PlanContext& c, const io::Image& img, Choices& out) const override {
+    if (c.p.get(shadow_keys::method) != "auto") return;
+    for (const auto& l : c.roles.lights) {
+      const ShadowAuto a = choose_shadow_method(img, c.roles, c.scene.light(l), l, c.camera, c.p);
+      out["shadows[" + l + "]"] = a.method;
+      out["shadows[" + l + "]/why"] = a.why;
+    }
+  }
+
   void plan(const PlanContext& c, PlanOut& out) const override {
     const auto& roles = c.roles;
     const auto& p = c.p;
-    const std::string method = p.get(shadow_keys::method);
+    const std::string preset_method = p.get(shadow_keys::method);
     for (const auto& l : roles.lights) {
+      // auto: the frame's choice; before the pixels are read (a dry run, the check of the
+      // header's channels), isg.
+      std::string method = preset_method, auto_why;
+      if (method == "auto") {
+        const std::string* m = c.choice("shadows[" + l + "]");
+        const std::string* why = c.choice("shadows[" + l + "]/why");
+        method = m ? *m : "isg";
+        auto_why = m && why ? "auto: " + *why : "auto: isg or pcss, chosen when the pixels are read";
+      }
       auto inst = make_instance<ShadowsInstance>("shadows", "shadows[" + l + "]");
       inst->light = l;
       EffectStatus st{"shadows[" + l + "]", false, method, ""};
@@ -207,6 +229,7 @@ class Shadows final : public Effect {
       } else {
         st.runs = true;
       }
+      if (!auto_why.empty() && st.why.empty()) st.why = auto_why;
       out.status(st);
       if (!st.runs) continue;
       inst->method = st.method;
@@ -257,7 +280,7 @@ class Shadows final : public Effect {
       plan_composite_term(out, k, "composite[" + l + "]", dir, soft, sh, l);
     }
     if (roles.lights.empty())
-      out.status({"shadows", false, method, "no light channels (L.shadow) in the input"});
+      out.status({"shadows", false, preset_method, "no light channels (L.shadow) in the input"});
   }
 
   // The light's shadow map, read once per frame (tiles share it).

@@ -4,6 +4,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <optional>
+#include <cstdio>
 #include <numbers>
 
 #include "effects/sampling.h"
@@ -207,6 +209,88 @@ ShadowmapData load_shadowmap(const ShadowmapSettings& s) {
   auto map = make_shadowmap(W, H, std::move(z));
   map.nonfinite = nonfinite;
   return map;
+}
+
+ShadowAuto choose_shadow_method(const io::Image& img, const io::Roles& roles, const io::Light* light,
+                                const std::string& name, const io::Camera* cam, const params::Params& p) {
+  char b[320];
+  if (const std::string why = shadowmap_unsupported(light, name); !why.empty()) return {"isg", why};
+  if (!roles.has("position") && !(roles.has("depth") && cam)) return {"isg", "no positions for the shadow map"};
+  const io::ShadowMap& sm = *light->shadowmap;
+  const std::array<double, 3> L = light->position;
+  const auto view = cam ? std::optional<PinholeView>(PinholeView::of(*cam, img.height)) : std::nullopt;
+  // Far from the origin: the float32 step of positions there against a shadow-map texel at the
+  // camera's distance from the light (the scene radius without a camera).
+  double mag = std::max({std::abs(L[0]), std::abs(L[1]), std::abs(L[2])});
+  double dist = 0.0;
+  if (view) {
+    for (int k = 0; k < 3; ++k) mag = std::max(mag, std::abs(view->eye[size_t(k)]));
+    dist = std::hypot(L[0] - view->eye[0], L[1] - view->eye[1], L[2] - view->eye[2]);
+  }
+  const double texel = std::max(dist, 1e-6) * 2.0 * std::tan(sm.yfov_deg * kPi / 360.0) / double(std::max(sm.height, 1));
+  const double step = mag > 0.0 ? std::ldexp(1.0, std::ilogb(mag) - 23) : 0.0;
+  if (view && step > 0.25 * texel) {
+    std::snprintf(b, sizeof b, "the scene lies %.3g m from the world origin: float32 positions step by %.3g m there, more than a quarter of a shadow-map texel (%.3g m)", mag, step, texel);
+    return {"isg", b};
+  }
+  // The light's angle above the lit receivers: from N where the input has it, else from P's
+  // screen derivatives; every step-th pixel in both directions, at most ~65k of them.
+  const int W = img.width, H = img.height;
+  const size_t n = size_t(W) * size_t(H);
+  const io::RoleBinding* pb = roles.get("position");
+  const io::RoleBinding* db = roles.get("depth");
+  const io::RoleBinding* nb = roles.get("normal");
+  const io::RoleBinding* bb = roles.get("beauty");
+  std::vector<float> P = pb ? io::gather_role(img, *pb, 3) : std::vector<float>{};
+  std::vector<float> Z = db ? io::gather_role(img, *db, 1) : std::vector<float>{};
+  std::vector<float> N = nb ? io::gather_role(img, *nb, 3) : std::vector<float>{};
+  std::vector<float> A = bb && bb->components() == 4 ? io::gather_role(img, *bb, 4) : std::vector<float>{};
+  auto fg = [&](size_t i) {
+    if (!A.empty() && A[3 * n + i] == 0.0f) return false;
+    if (!Z.empty() && !(Z[i] > 0.0f && Z[i] < float(ISG_BACKGROUND_DEPTH))) return false;
+    return true;
+  };
+  using V3 = std::array<double, 3>;
+  auto pos = [&](size_t i) -> V3 {
+    if (!P.empty()) return {P[i], P[n + i], P[2 * n + i]};
+    return view->world(i, Z[i], W, H);
+  };
+  const int stride = std::max(1, int(std::sqrt(double(n) / 65536.0)));
+  std::vector<double> elev;
+  for (int y = 0; y + 1 < H; y += stride)
+    for (int x = 0; x + 1 < W; x += stride) {
+      const size_t i = size_t(y) * size_t(W) + size_t(x);
+      if (!fg(i)) continue;
+      const V3 P0 = pos(i);
+      V3 nn;
+      if (!N.empty()) {
+        nn = {N[i], N[n + i], N[2 * n + i]};
+      } else {
+        if (!fg(i + 1) || !fg(i + size_t(W))) continue;
+        const V3 a = pos(i + 1), c = pos(i + size_t(W));
+        const V3 u = {a[0] - P0[0], a[1] - P0[1], a[2] - P0[2]}, v = {c[0] - P0[0], c[1] - P0[1], c[2] - P0[2]};
+        nn = {u[1] * v[2] - u[2] * v[1], u[2] * v[0] - u[0] * v[2], u[0] * v[1] - u[1] * v[0]};
+        // Facing the camera (screen derivatives give either orientation).
+        if (view && nn[0] * (view->eye[0] - P0[0]) + nn[1] * (view->eye[1] - P0[1]) + nn[2] * (view->eye[2] - P0[2]) < 0.0)
+          nn = {-nn[0], -nn[1], -nn[2]};
+      }
+      const double ln = std::hypot(nn[0], nn[1], nn[2]);
+      const V3 wl = {L[0] - P0[0], L[1] - P0[1], L[2] - P0[2]};
+      const double lw = std::hypot(wl[0], wl[1], wl[2]);
+      if (!(ln > 0.0) || !(lw > 0.0)) continue;
+      const double c = (nn[0] * wl[0] + nn[1] * wl[1] + nn[2] * wl[2]) / (ln * lw);
+      if (c > 0.0) elev.push_back(std::asin(std::min(c, 1.0)) * 180.0 / kPi);  // lit side only
+    }
+  if (elev.empty()) return {"isg", "no receivers facing the light"};
+  const auto mid = elev.begin() + std::ptrdiff_t(elev.size() / 2);
+  std::nth_element(elev.begin(), mid, elev.end());
+  const double limit = std::atan(1.0 / std::max(p.get(shadow_keys::slope_max), 1e-9)) * 180.0 / kPi;
+  if (*mid < limit) {
+    std::snprintf(b, sizeof b, "the light grazes most receivers: %.1f degrees above them (median), under the %.1f of shadows.slope_max", *mid, limit);
+    return {"isg", b};
+  }
+  std::snprintf(b, sizeof b, "the light stands %.1f degrees above most receivers (median; grazing under %.1f), %.3g m from the world origin: the shadow map's pcss", *mid, limit, mag);
+  return {"pcss", b};
 }
 
 }  // namespace isg::effects

@@ -10,6 +10,7 @@
 #include <string>
 
 #include "effects/view.h"
+#include "io/roles.h"
 #include "io/scene.h"
 #include "params/params.h"
 
@@ -94,6 +95,19 @@ struct ShadowmapSettings {
 
 // Why the shadow-map methods cannot run for this light ("" when they can).
 std::string shadowmap_unsupported(const io::Light* light, const std::string& name);
+
+// shadows.method = auto (issue 19): isg or pcss for one light, from the frame's pixels and the
+// scene, and why. pcss is the better on the shared cases where the light stands well above the
+// receivers near the world origin; isg holds everywhere measured, so it takes the scenes pcss
+// cannot: no usable shadow map; a scene so far from the origin that float32 positions step by
+// more than a quarter of a shadow-map texel there; or light that grazes most receivers (the
+// median angle of the light above the lit receivers under atan(1 / shadows.slope_max), the
+// slope up to which the map methods' receiver planes hold).
+struct ShadowAuto {
+  std::string method, why;
+};
+ShadowAuto choose_shadow_method(const io::Image& img, const io::Roles& roles, const io::Light* light,
+                                const std::string& name, const io::Camera* cam, const params::Params& p);
 
 // From the light, the camera (may be null when P is given; any resolution: f_px is for
 // `height` rows) and the preset.
