@@ -4,11 +4,13 @@
 #include <cmath>
 #include <iomanip>
 #include <iostream>
+#include <map>
 #include <optional>
 #include <sstream>
 
 #include "cli.h"
 #include "effects/params.h"
+#include "effects/shadows/settings.h"
 #include "gpu/gpu.h"
 #include "io/color.h"
 #include "metrics/compare.h"
@@ -30,6 +32,15 @@ int cmd_info(const Common& c, const std::string& input, bool as_json) {
   std::optional<isg::io::Camera> cam = scene.camera;
   if (!cam) cam = isg::io::camera_from_header(img);
   auto caps = isg::plan::capabilities(roles, scene, cam.has_value());
+  // What shadows.method = auto would pick for each light whose soft shadows can run, and why
+  // (issue 19): from the pixels, so only then are they read.
+  std::map<std::string, isg::effects::ShadowAuto> picks;
+  for (const auto& e : caps) {
+    if (!e.runs || e.effect.rfind("shadows[", 0) != 0) continue;
+    if (picks.empty()) img = isg::io::read_exr(input, limits_of(p));
+    const std::string l = e.effect.substr(8, e.effect.size() - 9);
+    picks[e.effect] = isg::effects::choose_shadow_method(img, roles, scene.light(l), l, cam ? &*cam : nullptr, p);
+  }
 
   std::vector<std::string> all_roles = isg::io::global_roles();
   for (const auto& l : roles.lights)
@@ -50,6 +61,7 @@ int cmd_info(const Common& c, const std::string& input, bool as_json) {
       j["roles"][r] = b ? json{{"channels", b->terms}, {"how", b->how}} : json(nullptr);
     }
     for (const auto& e : caps) j["effects"][e.effect] = {{"can_run", e.runs}, {"why", e.why}};
+    for (const auto& [k, a] : picks) j["effects"][k]["auto"] = {{"method", a.method}, {"why", a.why}};
     std::cout << j.dump(2) << "\n";
     return 0;
   }
@@ -73,6 +85,9 @@ int cmd_info(const Common& c, const std::string& input, bool as_json) {
   for (const auto& e : caps) {
     std::cout << "  " << std::left << std::setw(14) << e.effect
               << (e.runs ? (e.why.empty() ? "can run" : "can run: " + e.why) : "cannot run: " + e.why) << "\n";
+    if (auto it = picks.find(e.effect); it != picks.end())
+      std::cout << "  " << std::setw(14) << "" << "shadows.method=auto picks " << it->second.method << ": "
+                << it->second.why << "\n";
   }
   return 0;
 }

@@ -127,6 +127,9 @@ TEST_F(Cli, InfoFindsRolesAndSaysWhatCanRun) {
   EXPECT_TRUE(j["effects"]["shadows[key]"]["can_run"].get<bool>());
   EXPECT_FALSE(j["effects"]["reflections"]["can_run"].get<bool>());
   EXPECT_NE(j["effects"]["reflections"]["why"].get<std::string>().find("refl"), std::string::npos);
+  // What shadows.method = auto would pick: isg, no scene file giving the light a shadow map.
+  EXPECT_EQ(j["effects"]["shadows[key]"]["auto"]["method"], "isg");
+  EXPECT_NE(j["effects"]["shadows[key]"]["auto"]["why"].get<std::string>().find("not in the scene file"), std::string::npos);
 }
 
 TEST_F(Cli, CompareReportsClosedFormMetrics) {
