@@ -199,35 +199,38 @@ vec3 gather(Lobe L, uint i, Foot F) {
   return albedo_of(L) * mix(c0, gather_mean(L, i, F), smoothstep(0.25, 0.75, F.R_s));
 }
 
-// The search and the wide gathers at half resolution (issue 18): one search per 2×2 quad of the
-// tile, from its first glossy pixel (the quad's representative), and that pixel's gather where
-// its footprint is wide.
+// The search at half resolution and the wide gathers at quarter resolution (issue 18): one
+// search per 2×2 quad of the tile, from its first glossy pixel (the quad's representative), and
+// one gather per 4×4 block, the representative's of its top-left quad, where its footprint is
+// wide (R_s ≥ REFL_REUSE_RADIUS = 32 pixels: eight block spacings).
 #define REFL_QUADS (REFL_TILE / 2u)
+#define REFL_BLOCKS (REFL_TILE / 4u)
 #define REFL_NO_REP 0xffffffffu
 shared uint quad_rep[REFL_QUADS * REFL_QUADS];    // the representative's index, or REFL_NO_REP
 shared float quad_t[REFL_QUADS * REFL_QUADS];     // its t̄ (eq. 4 over t = E/(e+E))
-shared vec4 quad_mean[REFL_QUADS * REFL_QUADS];   // its gather_mean and R_s (w < 0: none)
-#define REFL_QUAD_PARTS 4u  // lanes per quad in the quads' phase (REFL_TILE² / REFL_QUADS²)
-shared vec4 quad_part[REFL_QUAD_PARTS][REFL_QUADS * REFL_QUADS];  // their partial sums
+shared vec4 block_mean[REFL_BLOCKS * REFL_BLOCKS];  // the block's gather_mean and R_s (w < 0: none)
+#define REFL_QUAD_PARTS 4u    // lanes per quad in the search (REFL_TILE² / REFL_QUADS²)
+#define REFL_BLOCK_PARTS 16u  // lanes per block in the wide gather (REFL_TILE² / REFL_BLOCKS²)
+shared vec4 part_sums[REFL_TILE * REFL_TILE];  // the lanes' partial sums, added in a fixed order
 shared uint tile_searches, tile_gathers;
 
 // A wide lobe's mean (R_s ≥ REFL_REUSE_RADIUS) moves little from one pixel to the next: the
-// pixel takes it bilinearly from the representatives' gathers around it in the tile's quad grid,
-// from those on its surface (eq. 10 range weight ≥ REFL_QUAD_SAME) whose footprint is within a
+// pixel takes it bilinearly from the blocks' gathers around it in the tile's block grid, from
+// those on its surface (eq. 10 range weight ≥ REFL_QUAD_SAME) whose footprint is within a
 // factor REFL_REUSE_RATIO of its own. False where they hold under REFL_REUSE_COVER of the
 // bilinear weight: the pixel gathers for itself.
 bool reuse(Lobe L, float R_s, out vec3 m) {
-  uvec2 q0;  // the lower corner of the quads around the pixel (at their top-left pixels)
+  uvec2 q0;  // the lower corner of the blocks around the pixel (at their top-left pixels)
   vec2 a;
-  isg_quad_bilinear(gl_LocalInvocationID.xy, REFL_QUADS, q0, a);
+  isg_cell_bilinear(gl_LocalInvocationID.xy, REFL_BLOCKS, 4.0, q0, a);
   vec3 s = vec3(0.0);
   float ws = 0.0;
   for (uint k = 0u; k < 4u; ++k) {
-    uint q = (q0.y + (k >> 1u)) * REFL_QUADS + q0.x + (k & 1u);
+    uint b = (q0.y + (k >> 1u)) * REFL_BLOCKS + q0.x + (k & 1u);
     float w = isg_quad_weight(a, k);
-    vec4 c = quad_mean[q];
+    vec4 c = block_mean[b];
     if (w <= 0.0 || c.w < 0.0 || c.w * REFL_REUSE_RATIO < R_s || R_s * REFL_REUSE_RATIO < c.w) continue;
-    if (range_fn(pack_geo[quad_rep[q]], L.P0, L.N0) < REFL_QUAD_SAME) continue;
+    if (range_fn(pack_geo[quad_rep[2u * (b / REFL_BLOCKS) * REFL_QUADS + 2u * (b % REFL_BLOCKS)]], L.P0, L.N0) < REFL_QUAD_SAME) continue;
     s += w * c.rgb;
     ws += w;
   }
@@ -265,9 +268,10 @@ void main() {
     atomicOr(glossy_bits[gl_LocalInvocationIndex >> 5u], 1u << (gl_LocalInvocationIndex & 31u));
   }
   barrier();
-  // The quads' searches and wide gathers, each split over four lanes: lane q + part·QUADS² takes
-  // samples part, part + 4, ... of quad q's lattices (whole SIMD rows of llvmpipe and whole warps
-  // on one part); the partial sums are added in a fixed order. The condition is uniform.
+  // The quads' searches, each split over four lanes: lane q + part·QUADS² takes samples part,
+  // part + 4, ... of quad q's lattice (whole SIMD rows of llvmpipe and whole warps on one part);
+  // the partial sums are added in a fixed order. Then the blocks' wide gathers, over sixteen
+  // lanes each. The condition is uniform.
   if (tile_glossy != 0u && pc.mode == REFL_MODE_ISG) {
     uint q = gl_LocalInvocationIndex % (REFL_QUADS * REFL_QUADS);
     uint part = gl_LocalInvocationIndex / (REFL_QUADS * REFL_QUADS);
@@ -282,30 +286,44 @@ void main() {
         rp = pp;
       }
     }
-    Lobe L;
     if (r != REFL_NO_REP) {
-      L = lobe_at(rp, r);
-      quad_part[part][q] = vec4(search_sums(L, r, part, REFL_QUAD_PARTS), 0.0, 0.0);
+      Lobe L = lobe_at(rp, r);
+      part_sums[part * REFL_QUADS * REFL_QUADS + q] = vec4(search_sums(L, r, part, REFL_QUAD_PARTS), 0.0, 0.0);
     }
-    barrier();
-    float t = 1.0;
-    Foot F;
-    F.R_s = -1.0;
-    if (r != REFL_NO_REP) {
-      vec4 st = quad_part[0][q] + quad_part[1][q] + quad_part[2][q] + quad_part[3][q];
-      t = search_mean(st.xy);
-      F = footprint(L, t);
-    }
-    bool wide = r != REFL_NO_REP && F.R_s >= REFL_REUSE_RADIUS;
-    barrier();
-    if (wide) quad_part[part][q] = gather_sums(L, r, F, part, REFL_QUAD_PARTS);
     barrier();
     if (part == 0u) {
+      float t = 1.0;
+      if (r != REFL_NO_REP) {
+        vec4 st = vec4(0.0);
+        for (uint k = 0u; k < REFL_QUAD_PARTS; ++k) st += part_sums[k * REFL_QUADS * REFL_QUADS + q];
+        t = search_mean(st.xy);
+        atomicAdd(tile_searches, 1u);
+      }
       quad_rep[q] = r;
       quad_t[q] = t;
-      vec4 g = wide ? quad_part[0][q] + quad_part[1][q] + quad_part[2][q] + quad_part[3][q] : vec4(1.0);
-      quad_mean[q] = wide ? vec4(g.rgb / g.w, F.R_s) : vec4(0.0, 0.0, 0.0, -1.0);
-      if (r != REFL_NO_REP) atomicAdd(tile_searches, 1u);
+    }
+    barrier();
+    // The blocks' wide gathers, each split over sixteen lanes: lane b + part·BLOCKS² takes
+    // samples part, part + 16, ... of block b's (its top-left quad's representative's).
+    uint b = gl_LocalInvocationIndex % (REFL_BLOCKS * REFL_BLOCKS);
+    uint bpart = gl_LocalInvocationIndex / (REFL_BLOCKS * REFL_BLOCKS);
+    uint qb = 2u * (b / REFL_BLOCKS) * REFL_QUADS + 2u * (b % REFL_BLOCKS);
+    uint rb = quad_rep[qb];
+    bool wide = false;
+    Foot F;
+    if (rb != REFL_NO_REP) {
+      uvec2 rbp = uvec2(rb % pc.width, rb / pc.width);
+      Lobe L = lobe_at(rbp, rb);
+      F = footprint(L, quad_t[qb]);
+      wide = F.R_s >= REFL_REUSE_RADIUS;
+      if (wide) part_sums[bpart * REFL_BLOCKS * REFL_BLOCKS + b] = gather_sums(L, rb, F, bpart, REFL_BLOCK_PARTS);
+    }
+    barrier();
+    if (bpart == 0u) {
+      vec4 g = vec4(0.0);
+      if (wide)
+        for (uint k = 0u; k < REFL_BLOCK_PARTS; ++k) g += part_sums[k * REFL_BLOCKS * REFL_BLOCKS + b];
+      block_mean[b] = wide ? vec4(g.rgb / g.w, F.R_s) : vec4(0.0, 0.0, 0.0, -1.0);
       if (wide) atomicAdd(tile_gathers, 1u);
     }
   }

@@ -24,9 +24,10 @@ ISG_IO_BEGIN
 // weight (eq. 10) to that representative is below this searches for itself.
 #define REFL_QUAD_SAME 0.5
 // A lobe whose footprint R_s (eq. 13) is at least this many pixels takes its gather bilinearly
-// from the gathers of the quads' representatives around it (on its surface, their footprints
-// within a factor REFL_REUSE_RATIO of its own, holding at least REFL_REUSE_COVER of the bilinear
-// weight); narrower lobes, and pixels without such neighbours, gather for themselves.
+// from the gathers of the 4×4 blocks around it (each its top-left quad's representative's; on
+// its surface, their footprints within a factor REFL_REUSE_RATIO of its own, holding at least
+// REFL_REUSE_COVER of the bilinear weight); narrower lobes, and pixels without such neighbours,
+// gather for themselves.
 #define REFL_REUSE_RADIUS 32.0
 #define REFL_REUSE_RATIO 1.25
 #define REFL_REUSE_COVER 0.5

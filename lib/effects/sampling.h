@@ -57,8 +57,9 @@ struct QuadBilinear {
   double ax, ay;
   double weight(int k) const { return ((k & 1) ? ax : 1.0 - ax) * ((k >> 1) ? ay : 1.0 - ay); }
 };
-inline QuadBilinear quad_bilinear(int lx, int ly, int quads) {
-  const double fx = lx * 0.5, fy = ly * 0.5;
+// `step`: cells of step x step pixels (reflections' 4x4 blocks: 4).
+inline QuadBilinear quad_bilinear(int lx, int ly, int quads, int step = 2) {
+  const double fx = lx / double(step), fy = ly / double(step);
   const double q0x = std::clamp(std::floor(fx), 0.0, double(quads - 2));
   const double q0y = std::clamp(std::floor(fy), 0.0, double(quads - 2));
   return {int(q0x), int(q0y), std::clamp(fx - q0x, 0.0, 1.0), std::clamp(fy - q0y, 0.0, 1.0)};

@@ -212,10 +212,12 @@ struct Ctx {
     return out;
   }
 
-  // The search and the wide gathers at half resolution (issue 18): one search per 2×2 quad,
-  // from its first glossy pixel (the representative), and that pixel's gather where its footprint
-  // is at least REFL_REUSE_RADIUS; a pixel on another surface than its representative (range
-  // weight below REFL_QUAD_SAME) searches for itself. Quads are aligned to even pixels.
+  // The search at half resolution and the wide gathers at quarter resolution (issue 18): one
+  // search per 2×2 quad, from its first glossy pixel (the representative), and one gather per
+  // 4×4 block, its top-left quad's representative's, where that footprint is at least
+  // REFL_REUSE_RADIUS; a pixel on another surface than its representative (range weight below
+  // REFL_QUAD_SAME) searches for itself. Quads are aligned to even pixels, blocks to multiples
+  // of 4 (the tile's).
   struct Quad {
     bool done = false;
     size_t rep = size_t(-1);  // none: no glossy pixel in the quad
@@ -239,19 +241,19 @@ struct Ctx {
     const Lobe L = lobe(int(Q.rep % in.w), int(Q.rep / in.w), Q.rep);
     Q.t = search(L, Q.rep);
     const Foot F = footprint(L, Q.t);
-    if (F.R_s >= REFL_REUSE_RADIUS) Q.R_s = F.R_s, Q.mean = gather_mean(L, Q.rep, F);
+    if (qx % 2 == 0 && qy % 2 == 0 && F.R_s >= REFL_REUSE_RADIUS) Q.R_s = F.R_s, Q.mean = gather_mean(L, Q.rep, F);
     return Q;
   }
-  // A wide lobe's mean, bilinear from the representatives' gathers around the pixel in its
-  // tile's quad grid (those on its surface whose footprint is within REFL_REUSE_RATIO of its
-  // own); false where they hold under REFL_REUSE_COVER of the bilinear weight.
+  // A wide lobe's mean, bilinear from the blocks' gathers around the pixel in its tile's block
+  // grid (those on its surface whose footprint is within REFL_REUSE_RATIO of its own); false
+  // where they hold under REFL_REUSE_COVER of the bilinear weight.
   bool reuse(int x, int y, const Lobe& L, double R_s, std::vector<Quad>& quads, V3& m) const {
     const int lx = x % REFL_TILE, ly = y % REFL_TILE;
-    const QuadBilinear b = quad_bilinear(lx, ly, REFL_TILE / 2);
+    const QuadBilinear b = quad_bilinear(lx, ly, REFL_TILE / 4, 4);
     V3 sum{};
     double ws = 0.0;
     for (int k = 0; k < 4; ++k) {
-      const int qx = (x - lx) / 2 + b.qx + (k & 1), qy = (y - ly) / 2 + b.qy + (k >> 1);
+      const int qx = (x - lx) / 2 + 2 * (b.qx + (k & 1)), qy = (y - ly) / 2 + 2 * (b.qy + (k >> 1));
       const double w = b.weight(k);
       if (w <= 0.0 || 2 * qx >= in.w || 2 * qy >= in.h) continue;
       const Quad& Q = quad(qx, qy, quads);
