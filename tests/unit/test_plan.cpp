@@ -65,6 +65,7 @@ struct AutoFloor {
   double ox = 0, oy = 0;                // the scene's offset from the world origin
   std::array<double, 3> light{0, 0, 4};  // relative to the offset
   int w = 64, h = 48;
+  bool camera = true;
   isg::io::Image image() const {
     isg::io::Image img;
     img.width = w;
@@ -91,7 +92,7 @@ struct AutoFloor {
     cam.yfov_deg = 40.0;
     cam.width = w;
     cam.height = h;
-    s.camera = cam;
+    if (camera) s.camera = cam;
     isg::io::Light l;
     l.name = "key";
     l.type = isg::io::LightType::sphere;
@@ -142,6 +143,13 @@ TEST(Plan, AutoShadowMethodPicksPcssOrIsgFromThePixels) {
   std::printf("far: %s (%s)\n", st.method.c_str(), st.why.c_str());
   EXPECT_EQ(st.method, "isg");
   EXPECT_NE(st.why.find("world origin"), std::string::npos);
+
+  // Without a camera isg cannot run (its radii are in pixels); pcss with P can.
+  AutoFloor no_camera;
+  no_camera.camera = false;
+  st = auto_status(no_camera);
+  EXPECT_EQ(st.method, "pcss");
+  EXPECT_NE(st.why.find("no camera"), std::string::npos);
 
   // Before the pixels are read (a dry run): isg, and the status says the choice is pending.
   auto p = isg::effects::default_params();

@@ -4,7 +4,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <optional>
 #include <cstdio>
 #include <numbers>
 
@@ -216,20 +215,19 @@ ShadowAuto choose_shadow_method(const io::Image& img, const io::Roles& roles, co
   char b[320];
   if (const std::string why = shadowmap_unsupported(light, name); !why.empty()) return {"isg", why};
   if (!roles.has("position") && !(roles.has("depth") && cam)) return {"isg", "no positions for the shadow map"};
+  // isg turns world radii into pixels through the camera; pcss needs only P and the map.
+  if (!cam) return {"pcss", "no camera, which isg needs: the shadow map's pcss"};
   const io::ShadowMap& sm = *light->shadowmap;
   const std::array<double, 3> L = light->position;
-  const auto view = cam ? std::optional<PinholeView>(PinholeView::of(*cam, img.height)) : std::nullopt;
+  const PinholeView view = PinholeView::of(*cam, img.height);
   // Far from the origin: the float32 step of positions there against a shadow-map texel at the
-  // camera's distance from the light (the scene radius without a camera).
+  // camera's distance from the light.
   double mag = std::max({std::abs(L[0]), std::abs(L[1]), std::abs(L[2])});
-  double dist = 0.0;
-  if (view) {
-    for (int k = 0; k < 3; ++k) mag = std::max(mag, std::abs(view->eye[size_t(k)]));
-    dist = std::hypot(L[0] - view->eye[0], L[1] - view->eye[1], L[2] - view->eye[2]);
-  }
+  for (int k = 0; k < 3; ++k) mag = std::max(mag, std::abs(view.eye[size_t(k)]));
+  const double dist = std::hypot(L[0] - view.eye[0], L[1] - view.eye[1], L[2] - view.eye[2]);
   const double texel = std::max(dist, 1e-6) * 2.0 * std::tan(sm.yfov_deg * kPi / 360.0) / double(std::max(sm.height, 1));
   const double step = mag > 0.0 ? std::ldexp(1.0, std::ilogb(mag) - 23) : 0.0;
-  if (view && step > 0.25 * texel) {
+  if (step > 0.25 * texel) {
     std::snprintf(b, sizeof b, "the scene lies %.3g m from the world origin: float32 positions step by %.3g m there, more than a quarter of a shadow-map texel (%.3g m)", mag, step, texel);
     return {"isg", b};
   }
@@ -253,7 +251,7 @@ ShadowAuto choose_shadow_method(const io::Image& img, const io::Roles& roles, co
   using V3 = std::array<double, 3>;
   auto pos = [&](size_t i) -> V3 {
     if (!P.empty()) return {P[i], P[n + i], P[2 * n + i]};
-    return view->world(i, Z[i], W, H);
+    return view.world(i, Z[i], W, H);
   };
   const int stride = std::max(1, int(std::sqrt(double(n) / 65536.0)));
   std::vector<double> elev;
@@ -271,7 +269,7 @@ ShadowAuto choose_shadow_method(const io::Image& img, const io::Roles& roles, co
         const V3 u = {a[0] - P0[0], a[1] - P0[1], a[2] - P0[2]}, v = {c[0] - P0[0], c[1] - P0[1], c[2] - P0[2]};
         nn = {u[1] * v[2] - u[2] * v[1], u[2] * v[0] - u[0] * v[2], u[0] * v[1] - u[1] * v[0]};
         // Facing the camera (screen derivatives give either orientation).
-        if (view && nn[0] * (view->eye[0] - P0[0]) + nn[1] * (view->eye[1] - P0[1]) + nn[2] * (view->eye[2] - P0[2]) < 0.0)
+        if (nn[0] * (view.eye[0] - P0[0]) + nn[1] * (view.eye[1] - P0[1]) + nn[2] * (view.eye[2] - P0[2]) < 0.0)
           nn = {-nn[0], -nn[1], -nn[2]};
       }
       const double ln = std::hypot(nn[0], nn[1], nn[2]);

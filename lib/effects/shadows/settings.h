@@ -102,7 +102,8 @@ std::string shadowmap_unsupported(const io::Light* light, const std::string& nam
 // cannot: no usable shadow map; a scene so far from the origin that float32 positions step by
 // more than a quarter of a shadow-map texel there; or light that grazes most receivers (the
 // median angle of the light above the lit receivers under atan(1 / shadows.slope_max), the
-// slope up to which the map methods' receiver planes hold).
+// slope up to which the map methods' receiver planes hold). Without a camera, which isg needs
+// and pcss does not (given P), pcss.
 struct ShadowAuto {
   std::string method, why;
 };
