@@ -69,12 +69,12 @@ std::shared_ptr<T> make_instance(const std::string& effect, const std::string& k
   return i;
 }
 
-// What the planner gives every effect.
 // What an effect chose from a frame's pixels for a setting left to it (shadows.method = auto),
 // by name (e.g. "shadows[key]" -> "pcss", "shadows[key]/why" -> the reason): made once per frame
 // after the pixels are read, and taken by every plan of that frame (its tiles' too).
 using Choices = std::map<std::string, std::string>;
 
+// What the planner gives every effect.
 struct PlanContext {
   const io::Roles& roles;
   const io::Scene& scene;

@@ -7,17 +7,6 @@
 
 namespace isg::effects {
 
-std::vector<float> foreground_reference(const float* alpha, const float* depth, size_t n) {
-  std::vector<float> fg(n, 1.0f);
-  for (size_t i = 0; i < n; ++i) {
-    bool bg = false;
-    if (alpha) bg = bg || alpha[i] == 0.0f;
-    if (depth) bg = bg || depth[i] <= 0.0f || double(depth[i]) >= ISG_BACKGROUND_DEPTH;
-    fg[i] = bg ? 0.0f : 1.0f;
-  }
-  return fg;
-}
-
 void composite_term_reference(std::vector<float>& C, const std::vector<float>& W,
                               const std::vector<float>& X, const std::vector<float>& Y,
                               int x_planes, const std::vector<float>& fg, size_t n) {

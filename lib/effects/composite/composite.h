@@ -6,14 +6,14 @@
 #include <cstddef>
 #include <vector>
 
+#include "effects/composite/effect.h"
 #include "gpu/gpu.h"
 
 namespace isg::effects {
 
 // ---- C++ double-precision references ----
 
-// 1 on foreground, 0 on background (alpha 0, depth <= 0 or >= 1e9); either input may be empty.
-std::vector<float> foreground_reference(const float* alpha, const float* depth, size_t n);
+// foreground_reference: effects/composite/effect.h (the planner side uses it too).
 
 // C (4 planes) += W (3 planes) · (X − Y) on foreground pixels; X, Y have x_planes (1 or 3).
 void composite_term_reference(std::vector<float>& C, const std::vector<float>& W,

@@ -3,7 +3,30 @@
 // terms C += W·(X − Y) are this effect's passes in the plans of the effects that add them.
 #include "effects/composite/effect.h"
 
+#include "isg_io.h"
+
 namespace isg::effects {
+
+std::vector<float> foreground_reference(const float* alpha, const float* depth, size_t n) {
+  std::vector<float> fg(n, 1.0f);
+  for (size_t i = 0; i < n; ++i) {
+    bool bg = false;
+    if (alpha) bg = bg || alpha[i] == 0.0f;
+    if (depth) bg = bg || depth[i] <= 0.0f || double(depth[i]) >= ISG_BACKGROUND_DEPTH;
+    fg[i] = bg ? 0.0f : 1.0f;
+  }
+  return fg;
+}
+
+std::vector<float> foreground_of(const io::Image& img, const io::Roles& roles) {
+  const size_t n = img.pixels();
+  std::vector<float> beauty, depth;
+  const io::RoleBinding* b = roles.get("beauty");
+  if (b && b->components() == 4) beauty = io::gather_role(img, *b, 4);
+  if (const io::RoleBinding* d = roles.get("depth")) depth = io::gather_role(img, *d, 1);
+  return foreground_reference(beauty.empty() ? nullptr : beauty.data() + 3 * n,
+                              depth.empty() ? nullptr : depth.data(), n);
+}
 
 namespace {
 class Composite final : public Effect {

@@ -308,20 +308,11 @@ class Shadows final : public Effect {
     const auto* ob = roles.get(inst.light + ".occluder");
     if (!sb || !ob) return;
     const size_t n = img.pixels();
-    const io::RoleBinding* beauty = roles.get("beauty");
-    std::vector<float> alpha, depth;
-    if (beauty && beauty->components() == 4) {
-      auto b = io::gather_role(img, *beauty, 4);
-      alpha.assign(b.begin() + ptrdiff_t(3 * n), b.end());
-    }
-    if (const io::RoleBinding* d = roles.get("depth")) depth = io::gather_role(img, *d, 1);
+    const auto fg = foreground_of(img, roles);
     const auto sh = io::gather_role(img, *sb, 1), oc = io::gather_role(img, *ob, 1);
     float dm = 0.0f;
-    for (size_t j = 0; j < n; ++j) {
-      if (!alpha.empty() && alpha[j] == 0.0f) continue;
-      if (!depth.empty() && (depth[j] <= 0.0f || depth[j] >= float(ISG_BACKGROUND_DEPTH))) continue;
-      if (sh[j] < 1.0f && oc[j] > 0.0f) dm = std::max(dm, oc[j]);
-    }
+    for (size_t j = 0; j < n; ++j)
+      if (fg[j] != 0.0f && sh[j] < 1.0f && oc[j] > 0.0f) dm = std::max(dm, oc[j]);
     inst.frame_dmax = dm;
   }
 

@@ -7,6 +7,7 @@
 #include <cstdio>
 #include <numbers>
 
+#include "effects/composite/effect.h"
 #include "effects/sampling.h"
 #include "effects/shadows/params.h"
 #include "effects/view.h"
@@ -232,22 +233,17 @@ ShadowAuto choose_shadow_method(const io::Image& img, const io::Roles& roles, co
     return {"isg", b};
   }
   // The light's angle above the lit receivers: from N where the input has it, else from P's
-  // screen derivatives; every step-th pixel in both directions, at most ~65k of them.
+  // screen derivatives; every stride-th pixel in both directions, at most ~65k of them.
   const int W = img.width, H = img.height;
   const size_t n = size_t(W) * size_t(H);
   const io::RoleBinding* pb = roles.get("position");
   const io::RoleBinding* db = roles.get("depth");
   const io::RoleBinding* nb = roles.get("normal");
-  const io::RoleBinding* bb = roles.get("beauty");
-  std::vector<float> P = pb ? io::gather_role(img, *pb, 3) : std::vector<float>{};
-  std::vector<float> Z = db ? io::gather_role(img, *db, 1) : std::vector<float>{};
-  std::vector<float> N = nb ? io::gather_role(img, *nb, 3) : std::vector<float>{};
-  std::vector<float> A = bb && bb->components() == 4 ? io::gather_role(img, *bb, 4) : std::vector<float>{};
-  auto fg = [&](size_t i) {
-    if (!A.empty() && A[3 * n + i] == 0.0f) return false;
-    if (!Z.empty() && !(Z[i] > 0.0f && Z[i] < float(ISG_BACKGROUND_DEPTH))) return false;
-    return true;
-  };
+  const std::vector<float> P = pb ? io::gather_role(img, *pb, 3) : std::vector<float>{};
+  const std::vector<float> Z = db ? io::gather_role(img, *db, 1) : std::vector<float>{};
+  const std::vector<float> N = nb ? io::gather_role(img, *nb, 3) : std::vector<float>{};
+  const std::vector<float> mask = foreground_of(img, roles);
+  auto fg = [&](size_t i) { return mask[i] != 0.0f; };
   using V3 = std::array<double, 3>;
   auto pos = [&](size_t i) -> V3 {
     if (!P.empty()) return {P[i], P[n + i], P[2 * n + i]};
