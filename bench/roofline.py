@@ -38,7 +38,9 @@ L = ["# Roofline: a plain cross-bilateral gather", "",
      f"{R['load_average'][0]:.1f}, {R['load_average'][1]:.1f} on 2 cores: other processes took "
      "their share, so these are lower bounds (an earlier run at load 1.4, radii 4, 16, 64, gave "
      "338-406 M taps/s, 49 and 81 taps alike).", "",
-     "Each tap reads one 16-byte texel (rgb + depth) from a storage buffer and weighs it by one "
+     "Each tap reads one 16-byte texel (rgb + depth) through a texel view of a buffer (a `samplerBuffer`, "
+     "as the isg passes read their inputs; from a storage buffer instead lavapipe reached 41-44 M taps/s, "
+     "lib/roofline/roofline.h) and weighs it by one "
      "`exp` of the depth difference; the offsets are a concentric-disk lattice scaled by the radius "
      "(shaders/roofline_gather.comp). This is the most a gather can do per tap on this device, the "
      "yardstick for the isg gathers (shaders/shadows_isg.comp, shaders/reflections_isg.comp).", "",

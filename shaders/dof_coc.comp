@@ -5,8 +5,8 @@
 // texel a pixel (a bilinear tap is four 16-byte loads, not sixteen scattered floats; issue 18).
 #include "dof_coc_io.h"
 layout(local_size_x = DOF_LOCAL, local_size_y = DOF_LOCAL) in;
-layout(std430, binding = 0) readonly buffer Composite { float C[]; };
-layout(std430, binding = 1) readonly buffer Depth { float depth[]; };
+layout(binding = 0) uniform samplerBuffer C;
+layout(binding = 1) uniform samplerBuffer depth;
 layout(std430, binding = 2) writeonly buffer Coc { float coc[]; };
 layout(std430, binding = 3) writeonly buffer Src { vec4 src[]; };
 layout(push_constant) uniform Push { DofPush pc; };
@@ -16,10 +16,10 @@ void main() {
   if (p.x >= pc.width || p.y >= pc.height) return;
   uint n = pc.width * pc.height;
   uint i = p.y * pc.width + p.x;
-  float z = depth[i];
-  bool bg = z <= 0.0 || z >= ISG_BACKGROUND_DEPTH || (pc.has_alpha != 0u && C[3u * n + i] == 0.0);
+  float z = texelFetch(depth, int(i)).r;
+  bool bg = z <= 0.0 || z >= ISG_BACKGROUND_DEPTH || (pc.has_alpha != 0u && texelFetch(C, int(3u * n + i)).r == 0.0);
   // Background blurs like a point at infinity: c -> c_inf.
   float c = bg ? pc.c_inf : pc.c_inf * (z - pc.z_f) / z;
   coc[i] = clamp(c, -pc.max_coc, pc.max_coc);
-  src[i] = vec4(C[i], C[n + i], C[2u * n + i], C[3u * n + i]);
+  src[i] = vec4(texelFetch(C, int(i)).r, texelFetch(C, int(n + i)).r, texelFetch(C, int(2u * n + i)).r, texelFetch(C, int(3u * n + i)).r);
 }

@@ -1,5 +1,6 @@
 // GLSL helpers shared by the dof passes; lib/effects/dof/dof.cpp mirrors each one in double.
-// Include after declaring `coc_buf` (signed CoC) and, for colour, `src_buf` (RGBA texels).
+// Include after declaring `coc_buf` (signed CoC) and, for colour, `src_buf` (RGBA texels), both
+// texel views (samplerBuffer: gpu.h's Slot::texels).
 #ifndef DOF_COMMON_H
 #define DOF_COMMON_H
 #include "dof_io.h"
@@ -55,16 +56,16 @@ void dof_taps(vec2 q, uint w, uint h, out uint i00, out uint i10, out uint i01, 
 float dof_fetch_coc(vec2 q) {
   uint a, b, c, d; vec2 f;
   dof_taps(q, pc.width, pc.height, a, b, c, d, f);
-  return mix(mix(coc_buf[a], coc_buf[b], f.x), mix(coc_buf[c], coc_buf[d], f.x), f.y);
+  return mix(mix(texelFetch(coc_buf, int(a)).r, texelFetch(coc_buf, int(b)).r, f.x), mix(texelFetch(coc_buf, int(c)).r, texelFetch(coc_buf, int(d)).r, f.x), f.y);
 }
 #endif
 #ifdef DOF_HAS_SRC
 vec4 dof_fetch_src(vec2 q) {
   uint a, b, c, d; vec2 f;
   dof_taps(q, pc.width, pc.height, a, b, c, d, f);
-  return mix(mix(src_buf[a], src_buf[b], f.x), mix(src_buf[c], src_buf[d], f.x), f.y);
+  return mix(mix(texelFetch(src_buf, int(a)), texelFetch(src_buf, int(b)), f.x), mix(texelFetch(src_buf, int(c)), texelFetch(src_buf, int(d)), f.x), f.y);
 }
-vec4 dof_src(uint i) { return src_buf[i]; }
+vec4 dof_src(uint i) { return texelFetch(src_buf, int(i)); }
 // The cheap path (tiles whose CoC range is under DOF_CHEAP_RANGE): a plain aperture average of
 // radius |c0| over the workgroup's lattice of grid² samples, faded to the sharp pixel below half
 // a pixel.

@@ -5,10 +5,10 @@
 // object before a blurry background) only counts inside its own CoC.
 #include "dof_gather_io.h"
 layout(local_size_x = DOF_LOCAL, local_size_y = DOF_LOCAL) in;
-layout(std430, binding = 0) readonly buffer Src { vec4 src_buf[]; };  // dof.input, RGBA texels
-layout(std430, binding = 1) readonly buffer Coc { float coc_buf[]; };
-layout(std430, binding = 2) readonly buffer Tiles { float tiles[]; };
-layout(std430, binding = 3) readonly buffer Radius { float radius[]; };
+layout(binding = 0) uniform samplerBuffer src_buf;  // dof.input, RGBA texels (a texel view: gpu.h's Slot::texels)
+layout(binding = 1) uniform samplerBuffer coc_buf;
+layout(binding = 2) uniform samplerBuffer tiles;
+layout(binding = 3) uniform samplerBuffer radius;
 layout(std430, binding = 4) writeonly buffer Composite { float C[]; };
 layout(push_constant) uniform Push { DofPush pc; };
 #define DOF_HAS_COC
@@ -21,14 +21,14 @@ void main() {
   if (p.x >= pc.width || p.y >= pc.height) return;
   uint n = pc.width * pc.height;
   uint i = p.y * pc.width + p.x;
-  float c0 = coc_buf[i];
+  float c0 = texelFetch(coc_buf, int(i)).r;
   uint t = 4u * ((p.y / DOF_TILE) * pc.tiles_x + p.x / DOF_TILE);
   float a = isg_pixel_angle(p + uvec2(pc.origin & 0xffffu, pc.origin >> 16));
   vec4 out_c;
-  if (tiles[t + 3u] != 0.0) {
+  if (texelFetch(tiles, int(t + 3u)).r != 0.0) {
     out_c = dof_cheap(p, c0, a, pc.grid);
   } else {
-    float R_g = radius[i];
+    float R_g = texelFetch(radius, int(i)).r;
     mat2 rot = mat2(cos(a), sin(a), -sin(a), cos(a));
     vec2 p0 = vec2(p) + 0.5;
     vec4 c_0 = dof_src(i);

@@ -8,9 +8,9 @@
 // blurry foreground over an in-focus object.
 #include "dof_layered_io.h"
 layout(local_size_x = DOF_LOCAL, local_size_y = DOF_LOCAL) in;
-layout(std430, binding = 0) readonly buffer Src { vec4 src_buf[]; };  // dof.input, RGBA texels
-layout(std430, binding = 1) readonly buffer Coc { float coc_buf[]; };
-layout(std430, binding = 2) readonly buffer Tiles { float tiles[]; };
+layout(binding = 0) uniform samplerBuffer src_buf;  // dof.input, RGBA texels (a texel view: gpu.h's Slot::texels)
+layout(binding = 1) uniform samplerBuffer coc_buf;
+layout(binding = 2) uniform samplerBuffer tiles;
 layout(std430, binding = 3) writeonly buffer Composite { float C[]; };
 layout(push_constant) uniform Push { DofPush pc; };
 #define DOF_HAS_COC
@@ -95,8 +95,8 @@ void main() {
   bool inside = p.x < pc.width && p.y < pc.height;
   uvec2 pt = min(p, uvec2(pc.width, pc.height) - 1u);  // a workgroup lies in one DOF_TILE tile
   uint t = 4u * ((pt.y / DOF_TILE) * pc.tiles_x + pt.x / DOF_TILE);
-  bool cheap = tiles[t + 3u] != 0.0;
-  float R = max(tiles[t + 2u], 0.5);
+  bool cheap = texelFetch(tiles, int(t + 3u)).r != 0.0;
+  float R = max(texelFetch(tiles, int(t + 2u)).r, 0.5);
   // Samples matched to the blur (issue 18): a lattice of spacing about 1 / DOF_LATTICE_DENSITY
   // pixels over the tile's largest CoC, at most dof.samples (the cheap path's radius |c0| is
   // within that CoC too).
@@ -108,7 +108,7 @@ void main() {
     uvec2 rp = gl_WorkGroupID.xy * DOF_LOCAL + 2u * uvec2(q % QUADS, q / QUADS);
     float cr = 0.0;
     if (rp.x < pc.width && rp.y < pc.height) {
-      cr = coc_buf[rp.y * pc.width + rp.x];
+      cr = texelFetch(coc_buf, int(rp.y * pc.width + rp.x)).r;
       if (abs(cr) >= DOF_REUSE_COC)
         q_out[q] = layered(rp, cr, isg_pixel_angle(rp + uvec2(pc.origin & 0xffffu, pc.origin >> 16)), R, grid);
       else
@@ -120,7 +120,7 @@ void main() {
   if (!inside) return;
   uint n = pc.width * pc.height;
   uint i = p.y * pc.width + p.x;
-  float c0 = coc_buf[i];
+  float c0 = texelFetch(coc_buf, int(i)).r;
   float a = isg_pixel_angle(p + uvec2(pc.origin & 0xffffu, pc.origin >> 16));
   vec4 out_c;
   if (cheap) {

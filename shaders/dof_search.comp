@@ -6,8 +6,8 @@
 // by this pixel, so it counts with this pixel's own CoC.
 #include "dof_search_io.h"
 layout(local_size_x = DOF_LOCAL, local_size_y = DOF_LOCAL) in;
-layout(std430, binding = 0) readonly buffer Coc { float coc_buf[]; };
-layout(std430, binding = 1) readonly buffer Tiles { float tiles[]; };
+layout(binding = 0) uniform samplerBuffer coc_buf;
+layout(binding = 1) uniform samplerBuffer tiles;
 layout(std430, binding = 2) writeonly buffer Radius { float radius[]; };
 layout(push_constant) uniform Push { DofPush pc; };
 #define DOF_HAS_COC
@@ -18,10 +18,10 @@ void main() {
   uvec2 p = gl_GlobalInvocationID.xy;
   if (p.x >= pc.width || p.y >= pc.height) return;
   uint i = p.y * pc.width + p.x;
-  float c0 = coc_buf[i];
+  float c0 = texelFetch(coc_buf, int(i)).r;
   uint t = 4u * ((p.y / DOF_TILE) * pc.tiles_x + p.x / DOF_TILE);
-  if (tiles[t + 3u] != 0.0) { radius[i] = abs(c0); return; }
-  float R_s = max(tiles[t + 2u], 0.5);  // the farthest any CoC reaching this tile spreads
+  if (texelFetch(tiles, int(t + 3u)).r != 0.0) { radius[i] = abs(c0); return; }
+  float R_s = max(texelFetch(tiles, int(t + 2u)).r, 0.5);  // the farthest any CoC reaching this tile spreads
   float a = isg_pixel_angle(p + uvec2(pc.origin & 0xffffu, pc.origin >> 16));
   mat2 rot = mat2(cos(a), sin(a), -sin(a), cos(a));
   vec2 p0 = vec2(p) + 0.5;

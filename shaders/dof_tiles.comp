@@ -7,7 +7,7 @@
 // so the result is the reference's (dof_tiles_reference) bit for bit.
 #include "dof_tiles_io.h"
 layout(local_size_x = DOF_LOCAL, local_size_y = DOF_LOCAL) in;
-layout(std430, binding = 0) readonly buffer Coc { float coc[]; };
+layout(binding = 0) uniform samplerBuffer coc;  // a texel view (gpu.h's Slot::texels)
 layout(std430, binding = 1) writeonly buffer Tiles { float tiles[]; };
 layout(push_constant) uniform Push { DofPush pc; };
 
@@ -27,7 +27,7 @@ void main() {
     for (int y = ya + int(gl_LocalInvocationID.y); y <= yb; y += DOF_LOCAL) {
       int dy = max(max(y0 - y, y - y1), 0);
       for (int x = xa + int(gl_LocalInvocationID.x); x <= xb; x += DOF_LOCAL) {
-        float c = coc[uint(y) * pc.width + uint(x)];
+        float c = texelFetch(coc, y * int(pc.width) + x).r;
         int dx = max(max(x0 - x, x - x1), 0);
         float reach = abs(c) + 1.0;
         if (float(dx * dx + dy * dy) > reach * reach) continue;

@@ -11,11 +11,12 @@
 #include "isg_sampling.h"
 #include "isg_view.h"
 layout(local_size_x = REFL_TILE, local_size_y = REFL_TILE) in;
-layout(std430, binding = 0) readonly buffer PackGeo { uvec4 pack_geo[]; };      // P − eye, oct N
-layout(std430, binding = 1) readonly buffer PackColor { vec4 pack_color[]; };   // refl, dist
-layout(std430, binding = 2) readonly buffer Rough { float rough[]; };
+// Inputs are texel views (lavapipe gathers texels as vectors; gpu.h's Slot::texels).
+layout(binding = 0) uniform usamplerBuffer pack_geo;   // P − eye, oct N
+layout(binding = 1) uniform samplerBuffer pack_color;  // refl, dist
+layout(binding = 2) uniform samplerBuffer rough;
 // Search lattice (grid_s² entries) then gather lattice (grid_g²): (x, y, |c|, |c|²) on the disk.
-layout(std430, binding = 3) readonly buffer Samples { vec4 samples[]; };
+layout(binding = 3) uniform samplerBuffer samples;
 layout(std430, binding = 4) writeonly buffer Glossy { float glossy[]; };
 layout(std430, binding = 5) writeonly buffer Tiles { float tiles[]; };
 layout(push_constant) uniform Push { ReflIsgPush pc; };
@@ -23,10 +24,10 @@ layout(push_constant) uniform Push { ReflIsgPush pc; };
 shared uint tile_glossy;  // glossy pixels in the tile
 shared uint glossy_bits[REFL_TILE * REFL_TILE / 32u];  // bit per pixel of the tile: glossy
 
-float roughness_at(uint i) { return (pc.flags & REFL_HAS_ROUGHNESS) != 0u ? rough[i] : pc.roughness; }
+float roughness_at(uint i) { return (pc.flags & REFL_HAS_ROUGHNESS) != 0u ? texelFetch(rough, int(i)).r : pc.roughness; }
 // A pixel holds reflection data to gather from: foreground with a non-zero weight.
 bool has_refl(vec4 c) { return c.w >= 0.0; }
-bool is_glossy(uint i) { return has_refl(pack_color[i]) && roughness_at(i) > REFL_MIN_ROUGHNESS; }
+bool is_glossy(uint i) { return has_refl(texelFetch(pack_color, int(i))) && roughness_at(i) > REFL_MIN_ROUGHNESS; }
 
 mat3 rot() {  // world -> camera; GLSL matrices are column-major
   return mat3(pc.r00, pc.r10, pc.r20, pc.r01, pc.r11, pc.r21, pc.r02, pc.r12, pc.r22);
@@ -60,11 +61,11 @@ mat2 pixel_rotation(uvec2 p) {
 vec3 refl_blur(uvec2 p, uint i) {
   vec2 p0 = vec2(p + uvec2(pc.origin & 0xffffu, pc.origin >> 16)) + 0.5;  // frame coordinates
   mat2 R = pixel_rotation(p);
-  vec3 s = pack_color[i].rgb;
+  vec3 s = texelFetch(pack_color, int(i)).rgb;
   float ws = 1.0;
   uint gs = pc.grids & 0xffffu, gg = pc.grids >> 16;
   for (uint k = 0u; k < gg * gg; ++k) {
-    vec4 c = pack_color[tap(p0 + pc.blur_radius * (R * samples[gs * gs + k].xy))];
+    vec4 c = texelFetch(pack_color, int(tap(p0 + pc.blur_radius * (R * texelFetch(samples, int(gs * gs + k)).xy))));
     float w = has_refl(c) ? 1.0 : 0.0;
     s += w * c.rgb;
     ws += w;
@@ -83,7 +84,7 @@ struct Lobe {
 Lobe lobe_at(uvec2 p, uint i) {
   Lobe L;
   L.p0 = vec2(p + uvec2(pc.origin & 0xffffu, pc.origin >> 16)) + 0.5;
-  uvec4 g0 = pack_geo[i];
+  uvec4 g0 = texelFetch(pack_geo, int(i));
   L.P0 = uintBitsToFloat(g0.xyz);
   L.N0 = isg_oct_decode(g0.w);
   L.e = max(length(L.P0), 1e-6);
@@ -112,21 +113,21 @@ Lobe lobe_at(uvec2 p, uint i) {
 // The sums over lattice samples part, part + parts, ... (the centre in part 0): a quad's search
 // is split over its four lanes.
 vec2 search_sums(Lobe L, uint i, uint part, uint parts) {
-  float d0 = pack_color[i].w;
+  float d0 = texelFetch(pack_color, int(i)).w;
   float st = d0 > 0.0 ? d0 / (L.e + d0) : 1.0;
   float sw = 1.0;
   if ((d0 <= 0.0 && (pc.flags & 8u) == 0u) || part != 0u) { st = 0.0; sw = 0.0; }
   uint gs = pc.grids & 0xffffu;
   mat2 FR = L.R_p * L.F;
   for (uint k = part; k < gs * gs; k += parts) {
-    vec4 u = samples[k];
+    vec4 u = texelFetch(samples, int(k));
     uint t = tap(L.p0 + FR * u.xy);
-    vec4 c = pack_color[t];
+    vec4 c = texelFetch(pack_color, int(t));
     if (!has_refl(c)) continue;
     float dj = c.w;
     if (dj <= 0.0 && (pc.flags & 8u) == 0u) continue;
     float tj = dj > 0.0 ? dj / (L.e + dj) : 1.0;
-    float w = range_fn(pack_geo[t], L.P0, L.N0);
+    float w = range_fn(texelFetch(pack_geo, int(t)), L.P0, L.N0);
     // Reach: only reflections whose own footprint (radius t_j·R_full) covers p_0.
     if ((pc.flags & 1u) != 0u) w *= clamp(tj * L.R_full - u.z * L.R_p + 0.5, 0.0, 1.0);
     st += w * tj;
@@ -168,21 +169,21 @@ vec4 gather_sums(Lobe L, uint i, Foot F, uint part, uint parts) {
   float alpha = L.alpha;
   float tm = tan(F.th_max);
   float xi_max = tm * tm / (alpha * alpha + tm * tm);
-  vec3 s = part == 0u ? pack_color[i].rgb : vec3(0.0);
+  vec3 s = part == 0u ? texelFetch(pack_color, int(i)).rgb : vec3(0.0);
   float ws = part == 0u ? 1.0 : 0.0;
   uint gs = pc.grids & 0xffffu, gg = pc.grids >> 16;
   mat2 FK = F.k_px * L.F;
   for (uint k = part; k < gg * gg; k += parts) {
-    vec4 u = samples[gs * gs + k];
+    vec4 u = texelFetch(samples, int(gs * gs + k));
     float xi = xi_max * u.w;
     float tau2 = alpha * alpha * xi / (1.0 - xi);
     float tau = sqrt(tau2);
     // Lattice point scaled from radius |c| to k·tan 2θ_h (|c| = 0: the centre stays put).
     float f = u.z > 0.0 ? 2.0 * tau / ((1.0 - tau2) * u.z) : 0.0;
     uint t = tap(L.p0 + FK * (f * u.xy));
-    vec4 c = pack_color[t];
+    vec4 c = texelFetch(pack_color, int(t));
     if (!has_refl(c)) continue;
-    float w = sqrt(1.0 + tau2) * range_fn(pack_geo[t], L.P0, L.N0);
+    float w = sqrt(1.0 + tau2) * range_fn(texelFetch(pack_geo, int(t)), L.P0, L.N0);
     s += w * c.rgb;
     ws += w;
   }
@@ -194,7 +195,7 @@ vec3 gather_mean(Lobe L, uint i, Foot F) {
 }
 
 vec3 gather(Lobe L, uint i, Foot F) {
-  vec3 c0 = pack_color[i].rgb;
+  vec3 c0 = texelFetch(pack_color, int(i)).rgb;
   if (F.R_s < 0.25) return albedo_of(L) * c0;
   return albedo_of(L) * mix(c0, gather_mean(L, i, F), smoothstep(0.25, 0.75, F.R_s));
 }
@@ -230,7 +231,7 @@ bool reuse(Lobe L, float R_s, out vec3 m) {
     float w = isg_quad_weight(a, k);
     vec4 c = block_mean[b];
     if (w <= 0.0 || c.w < 0.0 || c.w * REFL_REUSE_RATIO < R_s || R_s * REFL_REUSE_RATIO < c.w) continue;
-    if (range_fn(pack_geo[quad_rep[2u * (b / REFL_BLOCKS) * REFL_QUADS + 2u * (b % REFL_BLOCKS)]], L.P0, L.N0) < REFL_QUAD_SAME) continue;
+    if (range_fn(texelFetch(pack_geo, int(quad_rep[2u * (b / REFL_BLOCKS) * REFL_QUADS + 2u * (b % REFL_BLOCKS)])), L.P0, L.N0) < REFL_QUAD_SAME) continue;
     s += w * c.rgb;
     ws += w;
   }
@@ -244,7 +245,7 @@ vec3 refl_isg(uvec2 p, uint i) {
   uint q = l.y * REFL_QUADS + l.x, r = quad_rep[q];
   float t_bar = quad_t[q];
   // A pixel on another surface than its quad's representative searches for itself.
-  if (r != i && range_fn(pack_geo[r], L.P0, L.N0) < REFL_QUAD_SAME) {
+  if (r != i && range_fn(texelFetch(pack_geo, int(r)), L.P0, L.N0) < REFL_QUAD_SAME) {
     t_bar = search(L, i);
     atomicAdd(tile_searches, 1u);
   }
@@ -328,7 +329,7 @@ void main() {
     }
   }
   barrier();
-  vec3 c = inside ? pack_color[i].rgb : vec3(0.0);
+  vec3 c = inside ? texelFetch(pack_color, int(i)).rgb : vec3(0.0);
   if (tile_glossy != 0u && g) c = pc.mode == REFL_MODE_BLUR ? refl_blur(p, i) : refl_isg(p, i);
   barrier();
   // Tiles with nothing glossy take the cheap path: refl.glossy = refl. The others record how

@@ -8,12 +8,12 @@
 #include "reflections_isg_io.h"
 #include "isg_view.h"
 layout(local_size_x = REFL_PACK_LOCAL, local_size_y = 1) in;
-layout(std430, binding = 0) readonly buffer Refl { float refl[]; };
-layout(std430, binding = 1) readonly buffer Dist { float dist[]; };
-layout(std430, binding = 2) readonly buffer Weight { float weight[]; };
-layout(std430, binding = 3) readonly buffer Normal { float nrm[]; };
-layout(std430, binding = 4) readonly buffer Geo { float geo[]; };  // P (3 planes) or Z
-layout(std430, binding = 5) readonly buffer Fg { float fg[]; };
+layout(binding = 0) uniform samplerBuffer refl;
+layout(binding = 1) uniform samplerBuffer dist;
+layout(binding = 2) uniform samplerBuffer weight;
+layout(binding = 3) uniform samplerBuffer nrm;
+layout(binding = 4) uniform samplerBuffer geo;  // P (3 planes) or Z
+layout(binding = 5) uniform samplerBuffer fg;
 layout(std430, binding = 6) writeonly buffer PackGeo { uvec4 pack_geo[]; };
 layout(std430, binding = 7) writeonly buffer PackColor { vec4 pack_color[]; };
 layout(push_constant) uniform Push { ReflIsgPush pc; };
@@ -25,19 +25,19 @@ void main() {
   mat3 rot = mat3(pc.r00, pc.r10, pc.r20, pc.r01, pc.r11, pc.r21, pc.r02, pc.r12, pc.r22);
   vec3 rel;
   if ((pc.flags & REFL_HAS_POSITION) != 0u) {
-    rel = isg_rel_from_world(vec3(geo[i], geo[n + i], geo[2u * n + i]), vec3(pc.eye_x, pc.eye_y, pc.eye_z),
+    rel = isg_rel_from_world(vec3(texelFetch(geo, int(i)).r, texelFetch(geo, int(n + i)).r, texelFetch(geo, int(2u * n + i)).r), vec3(pc.eye_x, pc.eye_y, pc.eye_z),
                              vec3(pc.eye_lo_x, pc.eye_lo_y, pc.eye_lo_z));
   } else {
     // Frame coordinates (a tile adds its origin), so a tile rounds as the whole frame does.
     vec2 xy = vec2(p + uvec2(pc.origin & 0xffffu, pc.origin >> 16)) + 0.5;
-    rel = isg_rel_from_depth(xy, geo[i], vec2(pc.cx, pc.cy), pc.f_px, rot);
+    rel = isg_rel_from_depth(xy, texelFetch(geo, int(i)).r, vec2(pc.cx, pc.cy), pc.f_px, rot);
   }
-  vec3 N = vec3(nrm[i], nrm[n + i], nrm[2u * n + i]);
+  vec3 N = vec3(texelFetch(nrm, int(i)).r, texelFetch(nrm, int(n + i)).r, texelFetch(nrm, int(2u * n + i)).r);
   N = length(N) > 0.0 ? N : vec3(0.0, 0.0, 1.0);
   pack_geo[i] = uvec4(floatBitsToUint(rel), isg_oct_encode(N));
-  vec3 w = vec3(weight[i], weight[n + i], weight[2u * n + i]);
-  bool has_refl = fg[i] != 0.0 && max(w.r, max(w.g, w.b)) > 0.0;
-  float d = dist[i];
-  pack_color[i] = vec4(refl[i], refl[n + i], refl[2u * n + i],
+  vec3 w = vec3(texelFetch(weight, int(i)).r, texelFetch(weight, int(n + i)).r, texelFetch(weight, int(2u * n + i)).r);
+  bool has_refl = texelFetch(fg, int(i)).r != 0.0 && max(w.r, max(w.g, w.b)) > 0.0;
+  float d = texelFetch(dist, int(i)).r;
+  pack_color[i] = vec4(texelFetch(refl, int(i)).r, texelFetch(refl, int(n + i)).r, texelFetch(refl, int(2u * n + i)).r,
                        has_refl ? (d > 0.0 ? d : 0.0) : REFL_NO_REFLECTION);
 }

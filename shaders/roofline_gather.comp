@@ -1,6 +1,6 @@
 #version 450
 // The roofline (issue 18): a plain cross-bilateral gather, the least a gather pass can do per
-// tap (one 16-byte texel read, one exp range weight, four multiply-adds), so its taps/s is the
+// tap (one 16-byte texel read through a texel view, one exp range weight, four multiply-adds), so its taps/s is the
 // yardstick for the isg gathers on the same device. lib/roofline/roofline.cpp mirrors it in
 // double.
 #extension GL_GOOGLE_include_directive : require
@@ -10,8 +10,8 @@ layout(local_size_x = ROOFLINE_LOCAL_X, local_size_y = ROOFLINE_LOCAL_Y) in;
 // Integer offsets (a concentric-disk lattice already scaled by the radius and rounded on the
 // host): the reference then reads exactly the texels this shader reads, whatever the device's
 // float rounding.
-layout(std430, binding = 0) readonly restrict buffer Offsets { ivec2 offsets[]; };
-layout(std430, binding = 1) readonly restrict buffer Src { vec4 src[]; };  // rgb + depth
+layout(binding = 0) uniform usamplerBuffer offsets;
+layout(binding = 1) uniform samplerBuffer src;  // rgb + depth
 layout(std430, binding = 2) writeonly restrict buffer Dst { vec4 dst[]; };
 layout(push_constant) uniform Push { RooflinePush pc; };
 
@@ -26,13 +26,13 @@ void main() {
   uint h = isg_pixel_hash(u.x, u.y) >> 29;
   bool swap = (h & 1u) != 0u;
   ivec2 s = ivec2((h & 2u) != 0u ? -1 : 1, (h & 4u) != 0u ? -1 : 1);
-  float z0 = src[p.y * w + p.x].w;
+  float z0 = texelFetch(src, p.y * w + p.x).w;
   vec4 acc = vec4(0.0);
   for (uint k = 0u; k < pc.taps; ++k) {
-    ivec2 o = offsets[k];
+    ivec2 o = ivec2(texelFetch(offsets, int(k)).xy);
     o = (swap ? o.yx : o) * s;
     ivec2 q = clamp(p + o, ivec2(0), hi);
-    vec4 t = src[q.y * w + q.x];
+    vec4 t = texelFetch(src, q.y * w + q.x);
     float d = t.w - z0;
     float wt = exp(-d * d * pc.falloff);
     acc += vec4(t.rgb * wt, wt);

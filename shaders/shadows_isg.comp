@@ -6,14 +6,15 @@
 #include "shadows_isg_io.h"
 #include "isg_sampling.h"
 layout(local_size_x = SHADOWS_ISG_TILE, local_size_y = SHADOWS_ISG_TILE) in;
-layout(std430, binding = 0) readonly buffer Pack { vec4 pack[]; };  // P − eye, L.shadow (shadows.isg.tiles)
-layout(std430, binding = 1) readonly buffer Occluder { float occluder[]; };
+// Inputs are texel views (lavapipe gathers texels as vectors; gpu.h's Slot::texels).
+layout(binding = 0) uniform samplerBuffer pack;  // P − eye, L.shadow (shadows.isg.tiles)
+layout(binding = 1) uniform samplerBuffer occluder;
 layout(std430, binding = 2) buffer Tiles { uint tiles[]; };
 layout(std430, binding = 3) writeonly buffer Soft { float soft[]; };
 // The search lattice (grid_s² entries) then the gather lattice (grid_g²): concentric-disk
-// points made on the host, (x, y) of each vec2.
-layout(std430, binding = 4) readonly buffer Samples { vec2 samples[]; };
-layout(std430, binding = 5) readonly buffer Shadow { float shadow_in[]; };  // for the background
+// points made on the host, (x, y) of each texel.
+layout(binding = 4) uniform samplerBuffer samples;
+layout(binding = 5) uniform samplerBuffer shadow_in;  // for the background
 layout(push_constant) uniform Push { ShadowsIsgPush pc; };
 
 const float PI = 3.14159265358979;
@@ -44,8 +45,8 @@ bool foreground(vec4 t) { return t.w > 0.5 * SHADOWS_ISG_BACKGROUND; }
 // the receiver's normal from two of them.
 vec3 axis_diff(uvec2 p, vec3 P0, uvec2 e) {
   uvec2 a = p - e, b = p + e;
-  vec4 ta = p.x >= e.x && p.y >= e.y ? pack[a.y * pc.width + a.x] : vec4(SHADOWS_ISG_BACKGROUND);
-  vec4 tb = b.x < pc.width && b.y < pc.height ? pack[b.y * pc.width + b.x] : vec4(SHADOWS_ISG_BACKGROUND);
+  vec4 ta = p.x >= e.x && p.y >= e.y ? texelFetch(pack, int(a.y * pc.width + a.x)) : vec4(SHADOWS_ISG_BACKGROUND);
+  vec4 tb = b.x < pc.width && b.y < pc.height ? texelFetch(pack, int(b.y * pc.width + b.x)) : vec4(SHADOWS_ISG_BACKGROUND);
   bool ha = foreground(ta), hb = foreground(tb);
   vec3 f = hb ? tb.xyz - P0 : vec3(0.0);
   vec3 g = ha ? P0 - ta.xyz : vec3(0.0);
@@ -129,7 +130,7 @@ mat2 lattice(uvec2 p, Recv R, float raw) {
 // The sums of lattice samples part, part + parts, ... (the centre tap in part 0): a quad's
 // search is split over its four lanes.
 vec2 search_sums(Recv R, uvec2 p, uint i, float Rp, uint part, uint parts) {
-  float s0 = shadow_in[i], o0 = occluder[i];
+  float s0 = texelFetch(shadow_in, int(i)).r, o0 = texelFetch(occluder, int(i)).r;
   float sw = 0.0, swd = 0.0;
   if (part == 0u && s0 < 1.0 && o0 > 0.0) {
     sw = 1.0 - s0;
@@ -140,16 +141,16 @@ vec2 search_sums(Recv R, uvec2 p, uint i, float Rp, uint part, uint parts) {
   uint grid_search = pc.grids & 0xffffu;
   mat2 Rot = lattice(p, R, Rp);
   for (uint k = part; k < grid_search * grid_search; k += parts) {
-    vec2 x = p0 + Rot * samples[k] - 0.5;
+    vec2 x = p0 + Rot * texelFetch(samples, int(k)).xy - 0.5;
     vec2 x0 = floor(x), f = x - x0;
     ivec2 xa = ivec2(x0) - org;
     for (int j = 0; j < 4; ++j) {
       ivec2 xx = xa + ivec2(j & 1, j >> 1);
       if (xx.x < 0 || xx.y < 0 || xx.x >= int(pc.width) || xx.y >= int(pc.height)) continue;
       int t = xx.y * int(pc.width) + xx.x;
-      vec4 Tt = pack[t];
+      vec4 Tt = texelFetch(pack, int(t));
       if (!foreground(Tt) || !(Tt.w < 1.0)) continue;
-      float ot = occluder[t];
+      float ot = texelFetch(occluder, int(t)).r;
       if (!(ot > 0.0)) continue;
       vec3 dP = Tt.xyz - R.P0;
       float bw = ((j & 1) != 0 ? f.x : 1.0 - f.x) * ((j >> 1) != 0 ? f.y : 1.0 - f.y);
@@ -177,19 +178,19 @@ float search(Recv R, uvec2 p, uint i, float Rp) { return search_mean(search_sums
 // isg-synth contact's error rose 40 % with point taps in the gather, shared contact's 7 % at 9
 // search samples with point taps in the search).
 vec2 gather_sums(Recv R, uvec2 p, uint i, float Rs, uint part, uint parts) {
-  float sum = part == 0u ? shadow_in[i] : 0.0, ws = part == 0u ? 1.0 : 0.0;
+  float sum = part == 0u ? texelFetch(shadow_in, int(i)).r : 0.0, ws = part == 0u ? 1.0 : 0.0;
   vec2 p0 = vec2(p + uvec2(pc.origin & 0xffffu, pc.origin >> 16)) + 0.5;
   ivec2 org = ivec2(pc.origin & 0xffffu, pc.origin >> 16);
   uint grid_search = pc.grids & 0xffffu, grid_gather = pc.grids >> 16;
   mat2 Rog = lattice(p, R, Rs * R.inv_pix);
   for (uint k = part; k < grid_gather * grid_gather; k += parts) {
-    vec2 x = p0 + Rog * samples[grid_search * grid_search + k] - 0.5;
+    vec2 x = p0 + Rog * texelFetch(samples, int(grid_search * grid_search + k)).xy - 0.5;
     vec2 x0 = floor(x), f = x - x0;
     ivec2 xa = ivec2(x0) - org;
     for (int j = 0; j < 4; ++j) {
       ivec2 xx = xa + ivec2(j & 1, j >> 1);
       if (xx.x < 0 || xx.y < 0 || xx.x >= int(pc.width) || xx.y >= int(pc.height)) continue;
-      vec4 Tt = pack[xx.y * int(pc.width) + xx.x];
+      vec4 Tt = texelFetch(pack, int(xx.y * int(pc.width) + xx.x));
       if (!foreground(Tt)) continue;
       vec3 dP = Tt.xyz - R.P0;
       float l = across(dP, R.wl);
@@ -221,7 +222,7 @@ bool reuse(vec3 P0, float Rg, out float m) {
     float w = isg_quad_weight(a, k);
     vec2 g = q_g[q];
     if (w <= 0.0 || g.y < 0.0 || g.y * SHADOWS_ISG_REUSE_RATIO < Rg || Rg * SHADOWS_ISG_REUSE_RATIO < g.y) continue;
-    if (range_l2(dot(pack[q_rep[q]].xyz - P0, pack[q_rep[q]].xyz - P0)) < SHADOWS_ISG_QUAD_SAME) continue;
+    if (range_l2(dot(texelFetch(pack, int(q_rep[q])).xyz - P0, texelFetch(pack, int(q_rep[q])).xyz - P0)) < SHADOWS_ISG_QUAD_SAME) continue;
     s += w * g.x;
     ws += w;
   }
@@ -232,7 +233,7 @@ bool reuse(vec3 P0, float Rg, out float m) {
 // The pixel's soft shadow after the quads' phase: the hard shadow where the tile took the cheap
 // path or no occluder is within reach, else the gather (or its reuse from the quads').
 float shade(uvec2 p, uint i, bool full, Recv R, float d_loc) {
-  float s0 = shadow_in[i];
+  float s0 = texelFetch(shadow_in, int(i)).r;
   // Background is left untouched; the cheap path keeps the hard shadow.
   if (!full) return s0;
   atomicAdd(s_stat[SHADOWS_ISG_STAT_FULL], 1u);
@@ -242,7 +243,7 @@ float shade(uvec2 p, uint i, bool full, Recv R, float d_loc) {
   uvec2 l = gl_LocalInvocationID.xy / 2u;
   uint qs = l.y * QUADS + l.x, r = q_rep[qs];
   float d = q_d[qs];
-  if (r != i && range_l2(dot(pack[r].xyz - R.P0, pack[r].xyz - R.P0)) < SHADOWS_ISG_QUAD_SAME) {
+  if (r != i && range_l2(dot(texelFetch(pack, int(r)).xyz - R.P0, texelFetch(pack, int(r)).xyz - R.P0)) < SHADOWS_ISG_QUAD_SAME) {
     d = search(R, p, i, Rp_raw);
     atomicAdd(s_stat[SHADOWS_ISG_STAT_SEARCHES], 1u);
   }
@@ -281,7 +282,7 @@ void main() {
   barrier();
 
   // The reach of the widest penumbra in the image bounds the tiles to look at.
-  vec4 t0_ = inside ? pack[i] : vec4(SHADOWS_ISG_BACKGROUND);
+  vec4 t0_ = inside ? texelFetch(pack, int(i)) : vec4(SHADOWS_ISG_BACKGROUND);
   bool fg0 = foreground(t0_);
   Recv R;
   if (fg0) {
@@ -318,14 +319,14 @@ void main() {
     uvec2 rp = base;
     for (uint k = 0u; k < 4u; ++k) {
       uvec2 pp = base + uvec2(k & 1u, k >> 1u);
-      if (r == NO_REP && pp.x < pc.width && pp.y < pc.height && foreground(pack[pp.y * pc.width + pp.x])) {
+      if (r == NO_REP && pp.x < pc.width && pp.y < pc.height && foreground(texelFetch(pack, int(pp.y * pc.width + pp.x)))) {
         r = pp.y * pc.width + pp.x;
         rp = pp;
       }
     }
     Recv Rr;
     if (r != NO_REP) {
-      Rr = receiver(rp, pack[r].xyz);
+      Rr = receiver(rp, texelFetch(pack, int(r)).xyz);
       float Rp = d_loc > 0.0 ? penumbra(d_loc, Rr.D) / Rr.pix : 0.0;
       q_part[part][q] = search_sums(Rr, rp, r, Rp, part, QUAD_PARTS);
     }

@@ -9,10 +9,10 @@
 #include "shadows_isg_io.h"
 #include "isg_view.h"
 layout(local_size_x = SHADOWS_ISG_TILE, local_size_y = SHADOWS_ISG_TILE) in;
-layout(std430, binding = 0) readonly buffer Shadow { float shadow_in[]; };
-layout(std430, binding = 1) readonly buffer Occluder { float occluder[]; };
-layout(std430, binding = 2) readonly buffer Geo { float geo[]; };  // P (3 planes) or Z
-layout(std430, binding = 3) readonly buffer Fg { float fg[]; };
+layout(binding = 0) uniform samplerBuffer shadow_in;
+layout(binding = 1) uniform samplerBuffer occluder;
+layout(binding = 2) uniform samplerBuffer geo;  // P (3 planes) or Z
+layout(binding = 3) uniform samplerBuffer fg;
 layout(std430, binding = 4) buffer Tiles { uint tiles[]; };
 layout(std430, binding = 5) writeonly buffer Pack { vec4 pack[]; };
 layout(push_constant) uniform Push { ShadowsIsgTilesPush pc; };
@@ -29,25 +29,25 @@ void main() {
   uvec2 p = gl_GlobalInvocationID.xy;
   if (p.x < pc.width && p.y < pc.height) {
     uint n = pc.width * pc.height, i = p.y * pc.width + p.x;
-    float s = shadow_in[i];
+    float s = texelFetch(shadow_in, int(i)).r;
     vec3 rel = vec3(0.0);
-    if (fg[i] != 0.0) {
+    if (texelFetch(fg, int(i)).r != 0.0) {
       uint f = (s > 0.0 ? SHADOWS_ISG_FLAG_LIT : 0u) | (s < 1.0 ? SHADOWS_ISG_FLAG_SHADOW : 0u);
       atomicOr(s_flags, f);
       // Positive floats order as their bits.
-      if (s < 1.0 && occluder[i] > 0.0) atomicMax(s_dmax, floatBitsToUint(occluder[i]));
+      if (s < 1.0 && texelFetch(occluder, int(i)).r > 0.0) atomicMax(s_dmax, floatBitsToUint(texelFetch(occluder, int(i)).r));
       if ((pc.flags & SHADOWS_ISG_HAS_POSITION) != 0u) {
-        rel = isg_rel_from_world(vec3(geo[i], geo[n + i], geo[2u * n + i]), vec3(pc.eye_x, pc.eye_y, pc.eye_z),
+        rel = isg_rel_from_world(vec3(texelFetch(geo, int(i)).r, texelFetch(geo, int(n + i)).r, texelFetch(geo, int(2u * n + i)).r), vec3(pc.eye_x, pc.eye_y, pc.eye_z),
                                  vec3(pc.eye_lo_x, pc.eye_lo_y, pc.eye_lo_z));
       } else {
         // Frame coordinates (a tile adds its origin), so a tile rounds as the whole frame does.
         vec2 xy = vec2(p + uvec2(pc.origin & 0xffffu, pc.origin >> 16)) + 0.5;
         mat3 rot = mat3(pc.r00, pc.r10, pc.r20, pc.r01, pc.r11, pc.r21, pc.r02, pc.r12, pc.r22);
-        rel = isg_rel_from_depth(xy, geo[i], vec2(pc.cx, pc.cy), pc.f_px, rot);
+        rel = isg_rel_from_depth(xy, texelFetch(geo, int(i)).r, vec2(pc.cx, pc.cy), pc.f_px, rot);
       }
     }
     // Background pixels carry SHADOWS_ISG_BACKGROUND instead of L.shadow.
-    pack[i] = vec4(rel, fg[i] != 0.0 ? s : SHADOWS_ISG_BACKGROUND);
+    pack[i] = vec4(rel, texelFetch(fg, int(i)).r != 0.0 ? s : SHADOWS_ISG_BACKGROUND);
   }
   barrier();
   if (gl_LocalInvocationIndex == 0u) {

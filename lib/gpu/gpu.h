@@ -30,6 +30,7 @@ struct DeviceInfo {
   std::string type_name;  // "discrete", "integrated", "virtual", "cpu", "other"
   uint32_t api_version = 0;
   uint64_t max_storage_buffer_range = 0;
+  uint32_t max_texel_buffer_elements = 0;
   uint32_t max_workgroup_count[3] = {0, 0, 0};
   uint32_t max_image_dimension_2d = 0;
   uint64_t device_local_bytes = 0;
@@ -134,14 +135,23 @@ class Image {
   VkFormat format_ = VK_FORMAT_UNDEFINED;
 };
 
-// What a kernel binds, in binding order: storage buffers and storage images.
-enum class Slot { buffer, image };
+// What a kernel binds, in binding order: storage buffers, storage images, and read-only texel
+// views of buffers (uniform texel buffers: `samplerBuffer` / `usamplerBuffer`, texelFetch).
+// A gather reads its inputs through texel views: lavapipe fetches texels as vector gathers,
+// where each storage-buffer load is a loop over the SIMD lanes, each component on its own
+// (Mesa 22's llvmpipe; issue 18's measurements in docs/design.md). GPUs read both alike.
+enum class Slot { buffer, image, texels };
 
 struct Binding {
   const Buffer* buffer = nullptr;
   const Image* image = nullptr;
+  VkFormat format = VK_FORMAT_UNDEFINED;  // Slot::texels: the texel format of the view
   static Binding of(const Buffer& b) { return Binding{&b, nullptr}; }
   static Binding of(const Image& i) { return Binding{nullptr, &i}; }
+  // A texel view of the whole buffer (its size a multiple of the format's texel).
+  static Binding texels(const Buffer& b, VkFormat f) { return Binding{&b, nullptr, f}; }
+  static Binding floats(const Buffer& b) { return texels(b, VK_FORMAT_R32_SFLOAT); }
+  static Binding float4s(const Buffer& b) { return texels(b, VK_FORMAT_R32G32B32A32_SFLOAT); }
 };
 
 // A compute pipeline from embedded SPIR-V, its layout (one descriptor set, `slots` in binding
@@ -217,6 +227,7 @@ class Sequence {
   VkDescriptorPool pool_ = VK_NULL_HANDLE;
   VkQueryPool queries_ = VK_NULL_HANDLE;
   std::vector<std::string> labels_;
+  std::vector<VkBufferView> views_;  // texel views of the recorded dispatches, until submit()
   uint32_t max_passes_ = 256;
   bool recording_ = false;
   void begin();

@@ -4,6 +4,31 @@
 
 namespace isg::gpu {
 
+namespace {
+
+VkDescriptorType descriptor_type(Slot s) {
+  switch (s) {
+    case Slot::buffer: return VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
+    case Slot::image: return VK_DESCRIPTOR_TYPE_STORAGE_IMAGE;
+    case Slot::texels: return VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER;
+  }
+  return VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
+}
+
+uint32_t texel_bytes(VkFormat f) {
+  switch (f) {
+    case VK_FORMAT_R32_SFLOAT:
+    case VK_FORMAT_R32_UINT: return 4;
+    case VK_FORMAT_R32G32_SFLOAT:
+    case VK_FORMAT_R32G32_UINT: return 8;
+    case VK_FORMAT_R32G32B32A32_SFLOAT:
+    case VK_FORMAT_R32G32B32A32_UINT: return 16;
+    default: throw GpuError("texel view: unsupported format " + std::to_string(int(f)));
+  }
+}
+
+}  // namespace
+
 Kernel::Kernel(Context& ctx, std::string name, std::span<const uint32_t> spirv,
                std::vector<Slot> slots, uint32_t push_bytes, uint32_t local_x, uint32_t local_y)
     : name_(std::move(name)), slots_(std::move(slots)), push_bytes_(push_bytes),
@@ -33,8 +58,7 @@ std::shared_ptr<const Pipeline> Context::pipeline(const std::string& name,
   std::vector<VkDescriptorSetLayoutBinding> b(slots.size());
   for (uint32_t i = 0; i < slots.size(); ++i) {
     b[i].binding = i;
-    b[i].descriptorType = slots[i] == Slot::buffer ? VK_DESCRIPTOR_TYPE_STORAGE_BUFFER
-                                                   : VK_DESCRIPTOR_TYPE_STORAGE_IMAGE;
+    b[i].descriptorType = descriptor_type(slots[i]);
     b[i].descriptorCount = 1;
     b[i].stageFlags = VK_SHADER_STAGE_COMPUTE_BIT;
   }
@@ -69,11 +93,12 @@ std::shared_ptr<const Pipeline> Context::pipeline(const std::string& name,
 
 Sequence::Sequence(Context& ctx) : ctx_(ctx) {
   VkDevice dev = ctx.device();
-  VkDescriptorPoolSize sizes[2] = {{VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, max_passes_ * 16},
-                                   {VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, max_passes_ * 8}};
+  VkDescriptorPoolSize sizes[3] = {{VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, max_passes_ * 16},
+                                   {VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, max_passes_ * 8},
+                                   {VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER, max_passes_ * 8}};
   VkDescriptorPoolCreateInfo pi{VK_STRUCTURE_TYPE_DESCRIPTOR_POOL_CREATE_INFO};
   pi.maxSets = max_passes_;
-  pi.poolSizeCount = 2;
+  pi.poolSizeCount = 3;
   pi.pPoolSizes = sizes;
   check(vkCreateDescriptorPool(dev, &pi, nullptr, &pool_), "vkCreateDescriptorPool");
 
@@ -98,6 +123,8 @@ Sequence::~Sequence() { release(); }
 
 void Sequence::release() {
   VkDevice dev = ctx_.device();
+  for (VkBufferView v : views_) vkDestroyBufferView(dev, v, nullptr);
+  views_.clear();
   if (queries_) vkDestroyQueryPool(dev, queries_, nullptr);
   if (cmd_) vkFreeCommandBuffers(dev, ctx_.command_pool(), 1, &cmd_);
   if (pool_) vkDestroyDescriptorPool(dev, pool_, nullptr);
@@ -140,6 +167,7 @@ void Sequence::dispatch(const Kernel& k, const std::vector<Binding>& bindings, c
 
   std::vector<VkDescriptorBufferInfo> bufs(bindings.size());
   std::vector<VkDescriptorImageInfo> imgs(bindings.size());
+  std::vector<VkBufferView> views(bindings.size(), VK_NULL_HANDLE);
   std::vector<VkWriteDescriptorSet> writes(bindings.size());
   for (uint32_t i = 0; i < bindings.size(); ++i) {
     VkWriteDescriptorSet& w = writes[i];
@@ -152,6 +180,25 @@ void Sequence::dispatch(const Kernel& k, const std::vector<Binding>& bindings, c
       bufs[i] = {bindings[i].buffer->handle(), 0, VK_WHOLE_SIZE};
       w.descriptorType = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
       w.pBufferInfo = &bufs[i];
+    } else if (k.slots()[i] == Slot::texels) {
+      const Buffer* b = bindings[i].buffer;
+      if (!b) throw GpuError(k.name() + ": binding " + std::to_string(i) + " needs a buffer");
+      const uint32_t tb = texel_bytes(bindings[i].format);
+      const VkDeviceSize texels = b->size() / tb;
+      if (texels > ctx_.info().max_texel_buffer_elements) {
+        throw GpuError(k.name() + ": binding " + std::to_string(i) + " holds " +
+                       std::to_string(texels) + " texels, over the device's texel buffer limit (" +
+                       std::to_string(ctx_.info().max_texel_buffer_elements) + ")");
+      }
+      VkBufferViewCreateInfo vi{VK_STRUCTURE_TYPE_BUFFER_VIEW_CREATE_INFO};
+      vi.buffer = b->handle();
+      vi.format = bindings[i].format;
+      vi.offset = 0;
+      vi.range = texels * tb;
+      check(vkCreateBufferView(ctx_.device(), &vi, nullptr, &views[i]), "vkCreateBufferView");
+      views_.push_back(views[i]);
+      w.descriptorType = VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER;
+      w.pTexelBufferView = &views[i];
     } else {
       if (!bindings[i].image) throw GpuError(k.name() + ": binding " + std::to_string(i) + " needs an image");
       imgs[i] = {VK_NULL_HANDLE, bindings[i].image->view(), VK_IMAGE_LAYOUT_GENERAL};
@@ -217,6 +264,8 @@ std::vector<PassTime> Sequence::submit() {
   }
   labels_.clear();
   vkResetDescriptorPool(ctx_.device(), pool_, 0);
+  for (VkBufferView v : views_) vkDestroyBufferView(ctx_.device(), v, nullptr);
+  views_.clear();
   vkResetCommandBuffer(cmd_, 0);
   return out;
 }

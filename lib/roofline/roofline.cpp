@@ -75,14 +75,14 @@ std::vector<float> gather_reference(const std::vector<float>& src, int w, int h,
 
 GatherPass::GatherPass(gpu::Context& ctx)
     : kernel_(ctx, "roofline_gather", isg_spv_roofline_gather,
-              {gpu::Slot::buffer, gpu::Slot::buffer, gpu::Slot::buffer},
+              {gpu::Slot::texels, gpu::Slot::texels, gpu::Slot::buffer},
               sizeof(shaders::RooflinePush), ROOFLINE_LOCAL_X, ROOFLINE_LOCAL_Y) {}
 
 void GatherPass::record(gpu::Sequence& seq, const gpu::Buffer& offsets, const gpu::Buffer& src,
                         const gpu::Buffer& dst, uint32_t w, uint32_t h, uint32_t taps,
                         float falloff, const std::string& label) {
   shaders::RooflinePush pc{w, h, taps, falloff};
-  seq.dispatch(kernel_, {gpu::Binding::of(offsets), gpu::Binding::of(src), gpu::Binding::of(dst)},
+  seq.dispatch(kernel_, {gpu::Binding::texels(offsets, VK_FORMAT_R32G32_UINT), gpu::Binding::texels(src, VK_FORMAT_R32G32B32A32_SFLOAT), gpu::Binding::of(dst)},
                pc, w, h, label);
 }
 

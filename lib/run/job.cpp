@@ -157,7 +157,8 @@ io::Image crop(const io::Image& img, int x, int y, int w, int h) {
 }
 
 // The tile edge for this frame: limits.tile_size, or when the plan does not fit the device
-// (half its memory, or its largest storage buffer) the largest that does; 0: one piece.
+// (half its memory, or its largest storage buffer or texel view) the largest that does; 0: one
+// piece.
 int tile_edge(const gpu::Context& ctx, const JobConfig& job, const LoadedFrame& f) {
   const int W = f.img.width, H = f.img.height;
   int64_t t = job.params.get(effects::output_keys::tile_size);
@@ -167,7 +168,10 @@ int tile_edge(const gpu::Context& ctx, const JobConfig& job, const LoadedFrame& 
     for (const auto& r : f.plan.resources) largest = std::max(largest, r.bytes);
     const double px = double(W) * double(H);
     const double budget = info.device_local_bytes ? 0.5 * double(info.device_local_bytes) : 1e300;
-    const double range = info.max_storage_buffer_range ? double(info.max_storage_buffer_range) : 1e300;
+    // The largest buffer a pass binds: as a storage buffer, and as a texel view of 4-byte texels
+    // (the gathers read their planes through texel views: gpu.h's Slot::texels).
+    double range = info.max_storage_buffer_range ? double(info.max_storage_buffer_range) : 1e300;
+    if (info.max_texel_buffer_elements) range = std::min(range, 4.0 * double(info.max_texel_buffer_elements));
     const double fit = std::min(budget / (double(f.plan.gpu_bytes()) / px), range / (double(largest) / px));
     if (fit >= px) return 0;
     t = std::max<int64_t>(64, int64_t(std::sqrt(fit)) - 2 * int64_t(f.plan.reach));

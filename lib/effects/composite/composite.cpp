@@ -22,7 +22,7 @@ void composite_term_reference(std::vector<float>& C, const std::vector<float>& W
 
 ForegroundPass::ForegroundPass(gpu::Context& ctx)
     : kernel_(ctx, "foreground", isg_spv_foreground,
-              {gpu::Slot::buffer, gpu::Slot::buffer, gpu::Slot::buffer},
+              {gpu::Slot::texels, gpu::Slot::texels, gpu::Slot::buffer},
               sizeof(shaders::ForegroundPush), FOREGROUND_LOCAL, FOREGROUND_LOCAL) {}
 
 void ForegroundPass::record(gpu::Sequence& seq, const gpu::Buffer& composite, bool has_alpha,
@@ -32,13 +32,15 @@ void ForegroundPass::record(gpu::Sequence& seq, const gpu::Buffer& composite, bo
   // Without depth the slot is bound to the composite and never read.
   const gpu::Buffer& d = depth ? *depth : composite;
   seq.dispatch(kernel_,
-               {gpu::Binding::of(composite), gpu::Binding::of(d), gpu::Binding::of(fg)}, pc, w,
-               h, "foreground");
+               {gpu::Binding::floats(composite), gpu::Binding::floats(d), gpu::Binding::of(fg)}, pc,
+               w, h, "foreground");
 }
 
 CompositeTermPass::CompositeTermPass(gpu::Context& ctx)
     : kernel_(ctx, "composite_term", isg_spv_composite_term,
-              std::vector<gpu::Slot>(5, gpu::Slot::buffer), sizeof(shaders::CompositeTermPush),
+              {gpu::Slot::buffer, gpu::Slot::texels, gpu::Slot::texels, gpu::Slot::texels,
+               gpu::Slot::texels},
+              sizeof(shaders::CompositeTermPush),
               COMPOSITE_TERM_LOCAL, COMPOSITE_TERM_LOCAL) {}
 
 void CompositeTermPass::record(gpu::Sequence& seq, const gpu::Buffer& C, const gpu::Buffer& W,
@@ -47,8 +49,8 @@ void CompositeTermPass::record(gpu::Sequence& seq, const gpu::Buffer& C, const g
                                const std::string& label) {
   shaders::CompositeTermPush pc{w, h, x_planes, 0u};
   seq.dispatch(kernel_,
-               {gpu::Binding::of(C), gpu::Binding::of(W), gpu::Binding::of(X), gpu::Binding::of(Y),
-                gpu::Binding::of(fg)},
+               {gpu::Binding::of(C), gpu::Binding::floats(W), gpu::Binding::floats(X),
+                gpu::Binding::floats(Y), gpu::Binding::floats(fg)},
                pc, w, h, label);
 }
 

@@ -374,55 +374,56 @@ shaders::DofPush push_of(const DofSettings& s, uint32_t w, uint32_t h, bool has_
   return pc;
 }
 std::unique_ptr<gpu::Kernel> make_kernel(gpu::Context& ctx, const char* name,
-                                         std::span<const uint32_t> spv, size_t slots) {
-  return std::make_unique<gpu::Kernel>(ctx, name, spv, std::vector<gpu::Slot>(slots, gpu::Slot::buffer),
+                                         std::span<const uint32_t> spv,
+                                         std::vector<gpu::Slot> slots) {
+  return std::make_unique<gpu::Kernel>(ctx, name, spv, std::move(slots),
                                        uint32_t(sizeof(shaders::DofPush)), DOF_LOCAL, DOF_LOCAL);
 }
+constexpr gpu::Slot B = gpu::Slot::buffer, T = gpu::Slot::texels;
+using Bind = gpu::Binding;
 }  // namespace
 
 void DofPass::record_coc(gpu::Sequence& seq, const gpu::Buffer& composite, bool has_alpha,
                          const gpu::Buffer& depth, const gpu::Buffer& coc,
                          const gpu::Buffer& input, uint32_t w, uint32_t h) {
-  if (!k_->coc) k_->coc = make_kernel(ctx_, "dof.coc", isg_spv_dof_coc, 4);
+  if (!k_->coc) k_->coc = make_kernel(ctx_, "dof.coc", isg_spv_dof_coc, {T, T, B, B});
   seq.dispatch(*k_->coc,
-               {gpu::Binding::of(composite), gpu::Binding::of(depth), gpu::Binding::of(coc),
+               {Bind::floats(composite), Bind::floats(depth), gpu::Binding::of(coc),
                 gpu::Binding::of(input)},
                push_of(s_, w, h, has_alpha), w, h, "dof.coc");
 }
 
 void DofPass::record_tiles(gpu::Sequence& seq, const gpu::Buffer& coc, const gpu::Buffer& tiles,
                            uint32_t w, uint32_t h) {
-  if (!k_->tiles) k_->tiles = make_kernel(ctx_, "dof.tiles", isg_spv_dof_tiles, 2);
-  seq.dispatch(*k_->tiles, {gpu::Binding::of(coc), gpu::Binding::of(tiles)},
+  if (!k_->tiles) k_->tiles = make_kernel(ctx_, "dof.tiles", isg_spv_dof_tiles, {T, B});
+  seq.dispatch(*k_->tiles, {Bind::floats(coc), gpu::Binding::of(tiles)},
                push_of(s_, w, h, false), dof_tiles_x(w) * DOF_LOCAL, dof_tiles_y(h) * DOF_LOCAL,
                "dof.tiles");  // one workgroup per tile
 }
 
 void DofPass::record_search(gpu::Sequence& seq, const gpu::Buffer& coc, const gpu::Buffer& tiles,
                             const gpu::Buffer& radius, uint32_t w, uint32_t h) {
-  if (!k_->search) k_->search = make_kernel(ctx_, "dof.search", isg_spv_dof_search, 3);
+  if (!k_->search) k_->search = make_kernel(ctx_, "dof.search", isg_spv_dof_search, {T, T, B});
   seq.dispatch(*k_->search,
-               {gpu::Binding::of(coc), gpu::Binding::of(tiles), gpu::Binding::of(radius)},
+               {Bind::floats(coc), Bind::floats(tiles), gpu::Binding::of(radius)},
                push_of(s_, w, h, false), w, h, "dof.search");
 }
 
 void DofPass::record_gather(gpu::Sequence& seq, const gpu::Buffer& input, const gpu::Buffer& coc,
                             const gpu::Buffer& tiles, const gpu::Buffer& radius,
                             const gpu::Buffer& composite, uint32_t w, uint32_t h) {
-  if (!k_->gather) k_->gather = make_kernel(ctx_, "dof.gather", isg_spv_dof_gather, 5);
+  if (!k_->gather) k_->gather = make_kernel(ctx_, "dof.gather", isg_spv_dof_gather, {T, T, T, T, B});
   seq.dispatch(*k_->gather,
-               {gpu::Binding::of(input), gpu::Binding::of(coc), gpu::Binding::of(tiles),
-                gpu::Binding::of(radius), gpu::Binding::of(composite)},
+               {Bind::float4s(input), Bind::floats(coc), Bind::floats(tiles), Bind::floats(radius), gpu::Binding::of(composite)},
                push_of(s_, w, h, false), w, h, "dof.gather");
 }
 
 void DofPass::record_layered(gpu::Sequence& seq, const gpu::Buffer& input, const gpu::Buffer& coc,
                              const gpu::Buffer& tiles, const gpu::Buffer& composite, uint32_t w,
                              uint32_t h) {
-  if (!k_->layered) k_->layered = make_kernel(ctx_, "dof.layered", isg_spv_dof_layered, 4);
+  if (!k_->layered) k_->layered = make_kernel(ctx_, "dof.layered", isg_spv_dof_layered, {T, T, T, B});
   seq.dispatch(*k_->layered,
-               {gpu::Binding::of(input), gpu::Binding::of(coc), gpu::Binding::of(tiles),
-                gpu::Binding::of(composite)},
+               {Bind::float4s(input), Bind::floats(coc), Bind::floats(tiles), gpu::Binding::of(composite)},
                push_of(s_, w, h, false), w, h, "dof.layered");
 }
 

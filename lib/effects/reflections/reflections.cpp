@@ -332,11 +332,14 @@ std::vector<float> sample_table(int grid_search, int grid_gather) {
 ReflectionsPass::ReflectionsPass(gpu::Context& ctx, const ReflSettings& s)
     : s_(s),
       pack_(ctx, "reflections.pack", isg_spv_reflections_pack,
-            std::vector<gpu::Slot>(8, gpu::Slot::buffer), sizeof(shaders::ReflIsgPush),
+            {gpu::Slot::texels, gpu::Slot::texels, gpu::Slot::texels, gpu::Slot::texels,
+             gpu::Slot::texels, gpu::Slot::texels, gpu::Slot::buffer, gpu::Slot::buffer},
+            sizeof(shaders::ReflIsgPush),
             REFL_PACK_LOCAL, 1),
       kernel_(ctx, "reflections.isg", isg_spv_reflections_isg,
-              std::vector<gpu::Slot>(6, gpu::Slot::buffer), sizeof(shaders::ReflIsgPush), REFL_TILE,
-              REFL_TILE) {
+              {gpu::Slot::texels, gpu::Slot::texels, gpu::Slot::texels, gpu::Slot::texels,
+               gpu::Slot::buffer, gpu::Slot::buffer},
+              sizeof(shaders::ReflIsgPush), REFL_TILE, REFL_TILE) {
   const auto table = sample_table(s_.grid_search, s_.grid_gather);
   samples_ = std::make_unique<gpu::Buffer>(ctx, table.size() * sizeof(float), "refl.samples");
   samples_->upload(std::span<const float>(table));
@@ -383,8 +386,9 @@ void ReflectionsPass::record_pack(gpu::Sequence& seq, const ReflBuffers& b, uint
   const bool has_rough = b.rough && !s_.roughness_override;
   const auto pc = push(w, h, b.has_position, has_rough);
   seq.dispatch(pack_,
-               {gpu::Binding::of(b.refl), gpu::Binding::of(b.dist), gpu::Binding::of(b.weight),
-                gpu::Binding::of(b.normal), gpu::Binding::of(b.geo), gpu::Binding::of(b.fg),
+               {gpu::Binding::floats(b.refl), gpu::Binding::floats(b.dist),
+                gpu::Binding::floats(b.weight), gpu::Binding::floats(b.normal),
+                gpu::Binding::floats(b.geo), gpu::Binding::floats(b.fg),
                 gpu::Binding::of(b.pack_geo), gpu::Binding::of(b.pack_color)},
                pc, w, h, label);
 }
@@ -396,8 +400,11 @@ void ReflectionsPass::record_gather(gpu::Sequence& seq, const ReflBuffers& b, ui
   // Without a roughness channel the slot is bound to refl.dist and never read.
   const gpu::Buffer& rb = has_rough ? *b.rough : b.dist;
   seq.dispatch(kernel_,
-               {gpu::Binding::of(b.pack_geo), gpu::Binding::of(b.pack_color), gpu::Binding::of(rb),
-                gpu::Binding::of(*samples_), gpu::Binding::of(b.glossy), gpu::Binding::of(b.tiles)},
+               {gpu::Binding::texels(b.pack_geo, VK_FORMAT_R32G32B32A32_UINT),
+                gpu::Binding::float4s(b.pack_color),
+                gpu::Binding::floats(rb),
+                gpu::Binding::float4s(*samples_),
+                gpu::Binding::of(b.glossy), gpu::Binding::of(b.tiles)},
                pc, w, h, label);
 }
 

@@ -355,9 +355,13 @@ std::vector<float> shadows_isg_reference(const ShadowInputs& in, const ShadowSet
 ShadowsIsgPass::ShadowsIsgPass(gpu::Context& ctx)
     : ctx_(ctx),
       tiles_kernel_(ctx, "shadows.isg.tiles", isg_spv_shadows_isg_tiles,
-                    std::vector<gpu::Slot>(6, gpu::Slot::buffer), sizeof(shaders::ShadowsIsgTilesPush),
+                    {gpu::Slot::texels, gpu::Slot::texels, gpu::Slot::texels, gpu::Slot::texels,
+                     gpu::Slot::buffer, gpu::Slot::buffer},
+                    sizeof(shaders::ShadowsIsgTilesPush),
                     SHADOWS_ISG_TILE, SHADOWS_ISG_TILE),
-      kernel_(ctx, "shadows.isg", isg_spv_shadows_isg, std::vector<gpu::Slot>(6, gpu::Slot::buffer),
+      kernel_(ctx, "shadows.isg", isg_spv_shadows_isg,
+              {gpu::Slot::texels, gpu::Slot::texels, gpu::Slot::buffer, gpu::Slot::buffer,
+               gpu::Slot::texels, gpu::Slot::texels},
               sizeof(shaders::ShadowsIsgPush), SHADOWS_ISG_TILE, SHADOWS_ISG_TILE) {}
 
 ShadowsIsgPass::~ShadowsIsgPass() = default;
@@ -429,13 +433,16 @@ void ShadowsIsgPass::record(gpu::Sequence& seq, const ShadowSettings& s, const g
   std::memcpy(&zero[(zero.size() - SHADOWS_ISG_STATS) + SHADOWS_ISG_STAT_DMAX], &dm, sizeof dm);
   tiles.upload(std::span<const uint32_t>(zero));
   seq.dispatch(tiles_kernel_,
-               {gpu::Binding::of(shadow), gpu::Binding::of(occluder), gpu::Binding::of(geo),
-                gpu::Binding::of(fg), gpu::Binding::of(tiles), gpu::Binding::of(pack)},
+               {gpu::Binding::floats(shadow), gpu::Binding::floats(occluder),
+                gpu::Binding::floats(geo), gpu::Binding::floats(fg), gpu::Binding::of(tiles),
+                gpu::Binding::of(pack)},
                tp, w, h, label + ".tiles");
   seq.dispatch(kernel_,
-               {gpu::Binding::of(pack), gpu::Binding::of(occluder), gpu::Binding::of(tiles),
-                gpu::Binding::of(soft), gpu::Binding::of(samples(s.grid_search, s.grid_gather)),
-                gpu::Binding::of(shadow)},
+               {gpu::Binding::float4s(pack),
+                gpu::Binding::floats(occluder), gpu::Binding::of(tiles),
+                gpu::Binding::of(soft),
+                gpu::Binding::texels(samples(s.grid_search, s.grid_gather), VK_FORMAT_R32G32_SFLOAT),
+                gpu::Binding::floats(shadow)},
                pc, w, h, label);
 }
 
