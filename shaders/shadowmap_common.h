@@ -1,8 +1,20 @@
 // GLSL only: what every shadowmap_* pass shares. Before including, declare the buffers
-//   prm (ShadowmapParams p), geo (float geo[]), fg (float fg_in[]), smap (float smap[]).
+//   prm (ShadowmapParams p: the buffer's, or a copy made at the top of main), and the texel views
+//   (samplerBuffer, gpu.h's Slot::texels) geo, fg_in and smap — or, where the includer defines
+//   SHADOWMAP_STORAGE_BUFFERS, storage buffers (float geo[], fg_in[], smap[]).
 #ifndef SHADOWMAP_COMMON_H
 #define SHADOWMAP_COMMON_H
 #include "isg_sampling.h"
+
+#ifdef SHADOWMAP_STORAGE_BUFFERS
+float sm_geo(uint i) { return geo[i]; }
+float sm_fg(uint i) { return fg_in[i]; }
+float sm_map(uint i) { return smap[i]; }
+#else
+float sm_geo(uint i) { return texelFetch(geo, int(i)).r; }
+float sm_fg(uint i) { return texelFetch(fg_in, int(i)).r; }
+float sm_map(uint i) { return texelFetch(smap, int(i)).r; }
+#endif
 
 // Every position here is relative to the light (P − light, the light's centre rounded to float):
 // a world position far from the origin is never formed in float (issue 19). From P, P − light is
@@ -10,8 +22,8 @@
 // rotated into world axes and moved by eye − light, taken in double on the host.
 vec3 sm_rel(uint i) {
   uint n = p.width * p.height;
-  if (p.has_position != 0u) return vec3(geo[i], geo[n + i], geo[2u * n + i]) - vec3(p.light_x, p.light_y, p.light_z);
-  float z = geo[i];
+  if (p.has_position != 0u) return vec3(sm_geo(i), sm_geo(n + i), sm_geo(2u * n + i)) - vec3(p.light_x, p.light_y, p.light_z);
+  float z = sm_geo(i);
   // Frame coordinates (a tile adds its origin), so a tile rounds as the whole frame does.
   float x = float(i % p.width + (p.origin & 0xffffu)) + 0.5, y = float(i / p.width + (p.origin >> 16)) + 0.5;
   vec3 c = vec3((x - p.cx) / p.f_px * z, -(y - p.cy) / p.f_px * z, -z);
@@ -26,7 +38,7 @@ vec3 sm_rel(uint i) {
 // carries steps of it), else of Z. Exact (from the exponent bits).
 float sm_input_step(uint i) {
   uint n = p.width * p.height;
-  float m = p.has_position != 0u ? max(max(abs(geo[i]), abs(geo[n + i])), abs(geo[2u * n + i])) : abs(geo[i]);
+  float m = p.has_position != 0u ? max(max(abs(sm_geo(i)), abs(sm_geo(n + i))), abs(sm_geo(2u * n + i))) : abs(sm_geo(i));
   uint e = (floatBitsToUint(m) >> 23) & 0xffu;
   return e > 23u ? uintBitsToFloat((e - 23u) << 23) : 0.0;
 }
@@ -70,7 +82,7 @@ vec4 sm_receiver_plane(uvec2 px, vec3 q, vec3 P, out bool back) {
       ivec2 nb = ivec2(px) + (axis == 0 ? ivec2(s, 0) : ivec2(0, s));
       if (nb.x < 0 || nb.y < 0 || nb.x >= int(p.width) || nb.y >= int(p.height)) continue;
       uint j = uint(nb.y) * p.width + uint(nb.x);
-      if (fg_in[j] == 0.0) continue;
+      if (sm_fg(j) == 0.0) continue;
       vec3 Pn = sm_rel(j);
       vec3 qn = sm_project(Pn);
       if (qn.z <= 0.0) continue;
@@ -137,7 +149,7 @@ vec2 sm_threshold_range(vec3 q, vec4 g, vec2 lo, vec2 hi, float tw) {
   return vec2(max(q.z - lim, min(zmin, q.z)), min(q.z + lim, max(q.z, zmax))) - b;
 }
 float sm_fetch(vec2 c) {
-  return smap[uint(c.y) * p.map_w + uint(c.x)];
+  return sm_map(uint(c.y) * p.map_w + uint(c.x));
 }
 
 #endif

@@ -9,21 +9,23 @@
 // The blocker taken is the nearest to the receiver among the 3×3 texels around it, so pixels
 // the renderer shadows at a texel's edge still find their occluder.
 layout(local_size_x = SHADOWMAP_LOCAL, local_size_y = SHADOWMAP_LOCAL) in;
-layout(std430, binding = 0) readonly buffer Prm { ShadowmapParams p; };
-layout(std430, binding = 1) readonly buffer Geo { float geo[]; };
-layout(std430, binding = 2) readonly buffer Fg { float fg_in[]; };
-layout(std430, binding = 3) readonly buffer Smap { float smap[]; };
+layout(std430, binding = 0) readonly buffer Prm { ShadowmapParams p_in; };
+ShadowmapParams p;  // p_in, copied once at the top of main
+layout(binding = 1) uniform samplerBuffer geo;
+layout(binding = 2) uniform samplerBuffer fg_in;
+layout(binding = 3) uniform samplerBuffer smap;
 layout(std430, binding = 4) buffer Shadow { float shadow[]; };
 layout(std430, binding = 5) writeonly buffer Occ { float occ[]; };
 layout(push_constant) uniform Push { ShadowmapDerivePush pc; };
 #include "shadowmap_common.h"
 
 void main() {
+  p = p_in;
   uvec2 px = gl_GlobalInvocationID.xy;
   if (px.x >= pc.width || px.y >= pc.height) return;
   uint i = px.y * pc.width + px.x;
   float lit = 1.0, d_occ = 0.0;
-  if (fg_in[i] != 0.0) {
+  if (texelFetch(fg_in, int(i)).r != 0.0) {
     vec3 P = sm_rel(i);  // P − light
     vec3 q = sm_project(P);
     bool back = false;

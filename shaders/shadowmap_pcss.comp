@@ -5,29 +5,31 @@
 // depth could shadow the receiver from, then PCF over the penumbra width
 // w = (d_receiver − d_blocker)·w_light/d_blocker, in map texels at the receiver's depth.
 layout(local_size_x = SHADOWMAP_LOCAL, local_size_y = SHADOWMAP_LOCAL) in;
-layout(std430, binding = 0) readonly buffer Prm { ShadowmapParams p; };
-layout(std430, binding = 1) readonly buffer Geo { float geo[]; };
-layout(std430, binding = 2) readonly buffer Fg { float fg_in[]; };
-layout(std430, binding = 3) readonly buffer Hard { float hard[]; };
-layout(std430, binding = 4) readonly buffer Smap { float smap[]; };
-layout(std430, binding = 5) readonly buffer Taps { vec2 taps[]; };
+layout(std430, binding = 0) readonly buffer Prm { ShadowmapParams p_in; };
+ShadowmapParams p;  // p_in, copied once at the top of main
+layout(binding = 1) uniform samplerBuffer geo;
+layout(binding = 2) uniform samplerBuffer fg_in;
+layout(binding = 3) uniform samplerBuffer hard;
+layout(binding = 4) uniform samplerBuffer smap;
+layout(binding = 5) uniform samplerBuffer taps;
 layout(std430, binding = 6) writeonly buffer Soft { float soft[]; };
 layout(std430, binding = 7) buffer Stats { uint stats[]; };
 layout(push_constant) uniform Push { ShadowmapPush pc; };
 #include "shadowmap_common.h"
 
 void main() {
+  p = p_in;
   uvec2 px = gl_GlobalInvocationID.xy;
   if (px.x >= pc.width || px.y >= pc.height) return;
   uint i = px.y * pc.width + px.x;
-  if (fg_in[i] == 0.0) { soft[i] = hard[i]; return; }
+  if (texelFetch(fg_in, int(i)).r == 0.0) { soft[i] = texelFetch(hard, int(i)).r; return; }
   vec3 P = sm_rel(i);  // P − light
   vec3 q = sm_project(P);
-  if (!sm_inside(q)) { soft[i] = hard[i]; return; }
+  if (!sm_inside(q)) { soft[i] = texelFetch(hard, int(i)).r; return; }
   atomicAdd(stats[SHADOWMAP_STAT_PIXELS], 1u);
   bool back;
   vec4 g = sm_receiver_plane(px, q, P, back);
-  if (back) { atomicAdd(stats[SHADOWMAP_STAT_SKIPPED], 1u); soft[i] = hard[i]; return; }
+  if (back) { atomicAdd(stats[SHADOWMAP_STAT_SKIPPED], 1u); soft[i] = texelFetch(hard, int(i)).r; return; }
   float texel_world = 2.0 * q.z * p.tan_y / float(p.map_h);
   float k = p.light_radius * float(p.map_h) / (2.0 * p.tan_y);  // texels per unit of 1/d − 1/z
   float a = 0.0;
@@ -37,7 +39,7 @@ void main() {
   float sum = 0.0;
   uint cnt = 0u;
   for (uint t = 0u; t < p.taps; ++t) {
-    vec2 c = floor(q.xy + rot * taps[t] * rs) + 0.5;
+    vec2 c = floor(q.xy + rot * texelFetch(taps, int(t)).xy * rs) + 0.5;
     if (c.x < 0.0 || c.y < 0.0 || c.x >= float(p.map_w) || c.y >= float(p.map_h)) continue;
     float zm = sm_fetch(c);
     if (zm < sm_threshold(q, g, c, texel_world)) { sum += zm; ++cnt; }
@@ -52,7 +54,7 @@ void main() {
   if (rf > p.max_radius) { rf = p.max_radius; atomicAdd(stats[SHADOWMAP_STAT_CLAMPED], 1u); }
   uint lit = 0u;
   for (uint t = 0u; t < p.taps; ++t) {
-    vec2 c = floor(q.xy + rot * taps[t] * rf) + 0.5;
+    vec2 c = floor(q.xy + rot * texelFetch(taps, int(t)).xy * rf) + 0.5;
     if (c.x < 0.0 || c.y < 0.0 || c.x >= float(p.map_w) || c.y >= float(p.map_h)) { ++lit; continue; }
     if (sm_fetch(c) >= sm_threshold(q, g, c, texel_world)) ++lit;
   }

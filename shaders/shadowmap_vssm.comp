@@ -11,15 +11,16 @@
 // (threshold_flat): else it is split, or filtered by PCF at the tree's leaves.
 // lib/effects/shadows/vssm.cpp holds the double mirror.
 layout(local_size_x = SHADOWMAP_LOCAL, local_size_y = SHADOWMAP_LOCAL) in;
-layout(std430, binding = 0) readonly buffer Prm { ShadowmapParams p; };
-layout(std430, binding = 1) readonly buffer Geo { float geo[]; };
-layout(std430, binding = 2) readonly buffer Fg { float fg_in[]; };
-layout(std430, binding = 3) readonly buffer Hard { float hard[]; };
-layout(std430, binding = 4) readonly buffer Smap { float smap[]; };
+layout(std430, binding = 0) readonly buffer Prm { ShadowmapParams p_in; };
+ShadowmapParams p;  // p_in, copied once at the top of main
+layout(binding = 1) uniform samplerBuffer geo;
+layout(binding = 2) uniform samplerBuffer fg_in;
+layout(binding = 3) uniform samplerBuffer hard;
+layout(binding = 4) uniform samplerBuffer smap;
 layout(std430, binding = 5) readonly buffer Vprm { VssmParams v; };
-layout(std430, binding = 6) readonly buffer Hsm { vec2 hsm[]; };
-layout(std430, binding = 7) readonly buffer Sat1 { uvec2 sat1[]; };
-layout(std430, binding = 8) readonly buffer Sat2 { uvec2 sat2[]; };
+layout(binding = 6) uniform samplerBuffer hsm;
+layout(binding = 7) uniform usamplerBuffer sat1;
+layout(binding = 8) uniform usamplerBuffer sat2;
 layout(std430, binding = 9) writeonly buffer Soft { float soft[]; };
 layout(std430, binding = 10) buffer Stats { uint stats[]; };
 layout(push_constant) uniform Push { ShadowmapPush pc; };
@@ -36,8 +37,8 @@ vec2 hsm_range(vec2 flo, vec2 fhi) {
   vec2 r = vec2(1e30, -1e30);
   for (int y = a.y; y <= b.y; ++y)
     for (int x = a.x; x <= b.x; ++x) {
-      vec2 c = L == 0u ? vec2(min(smap[uint(y) * p.map_w + uint(x)], v.far_z))
-                       : hsm[v.level_off[L] + uint(y) * v.level_w[L] + uint(x)];
+      vec2 c = L == 0u ? vec2(min(texelFetch(smap, int(uint(y) * p.map_w + uint(x))).r, v.far_z))
+                       : texelFetch(hsm, int(v.level_off[L] + uint(y) * v.level_w[L] + uint(x))).xy;
       r = vec2(min(r.x, c.x), max(r.y, c.y));
     }
   return r;
@@ -56,7 +57,7 @@ uvec2 add64(uvec2 a, uvec2 b) {
 uvec2 sat_at(bool second, int x, int y) {
   if (x <= 0 || y <= 0) return uvec2(0u);
   uint i = uint(y - 1) * p.map_w + uint(x - 1);
-  return second ? sat2[i] : sat1[i];
+  return second ? texelFetch(sat2, int(i)).xy : texelFetch(sat1, int(i)).xy;
 }
 // A continuous interval [a, b) of texels as up to three integer runs with weights: the partly
 // covered first texel, the whole ones, the partly covered last one (the box filter of the
@@ -151,17 +152,18 @@ int hsm_verdict(vec3 q, vec4 g, vec2 lo, vec2 hi, float tw) {
 }
 
 void main() {
+  p = p_in;
   uvec2 px = gl_GlobalInvocationID.xy;
   if (px.x >= pc.width || px.y >= pc.height) return;
   uint i = px.y * pc.width + px.x;
-  if (fg_in[i] == 0.0) { soft[i] = hard[i]; return; }
+  if (texelFetch(fg_in, int(i)).r == 0.0) { soft[i] = texelFetch(hard, int(i)).r; return; }
   vec3 P = sm_rel(i);  // P − light
   vec3 q = sm_project(P);
-  if (!sm_inside(q)) { soft[i] = hard[i]; return; }
+  if (!sm_inside(q)) { soft[i] = texelFetch(hard, int(i)).r; return; }
   atomicAdd(stats[SHADOWMAP_STAT_PIXELS], 1u);
   bool back;
   vec4 g = sm_receiver_plane(px, q, P, back);
-  if (back) { atomicAdd(stats[SHADOWMAP_STAT_SKIPPED], 1u); soft[i] = hard[i]; return; }
+  if (back) { atomicAdd(stats[SHADOWMAP_STAT_SKIPPED], 1u); soft[i] = texelFetch(hard, int(i)).r; return; }
   // A receiver beyond the map's farthest surface (far_z, where the background stands in the
   // SATs and the HSM) is shaded as lying on it: else the background would block it (vssm.cpp).
   q.z = min(q.z, v.far_z);

@@ -9,7 +9,7 @@ ShadowmapDerivePass::ShadowmapDerivePass(gpu::Context& ctx, const ShadowmapSetti
                                          const ShadowmapData& map, uint32_t w, uint32_t h,
                                          bool has_position)
     : kernel_(ctx, "shadows.derive", isg_spv_shadowmap_derive,
-              {gpu::Slot::buffer, gpu::Slot::buffer, gpu::Slot::buffer, gpu::Slot::buffer,
+              {gpu::Slot::buffer, gpu::Slot::texels, gpu::Slot::texels, gpu::Slot::texels,
                gpu::Slot::buffer, gpu::Slot::buffer},
               sizeof(shaders::ShadowmapDerivePush), SHADOWMAP_LOCAL, SHADOWMAP_LOCAL),
       w_(w),
@@ -25,8 +25,8 @@ void ShadowmapDerivePass::record(gpu::Sequence& seq, const gpu::Buffer& geo,
                                  const gpu::Buffer& occluder, const std::string& label) {
   shaders::ShadowmapDerivePush pc{w_, h_, write_shadow ? 1u : 0u};
   seq.dispatch(kernel_,
-               {gpu::Binding::of(params_), gpu::Binding::of(geo), gpu::Binding::of(fg),
-                gpu::Binding::of(map), gpu::Binding::of(shadow), gpu::Binding::of(occluder)},
+               {gpu::Binding::of(params_), gpu::Binding::floats(geo), gpu::Binding::floats(fg),
+                gpu::Binding::floats(map), gpu::Binding::of(shadow), gpu::Binding::of(occluder)},
                pc, w_, h_, label);
 }
 

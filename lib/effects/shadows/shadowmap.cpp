@@ -188,8 +188,8 @@ class Pcss final : public ShadowmapMethod {
   Pcss(gpu::Context& ctx, const ShadowmapSettings& s, const ShadowmapData& map, uint32_t w,
        uint32_t h, bool has_position)
       : kernel_(ctx, "shadows.pcss", isg_spv_shadowmap_pcss,
-                {gpu::Slot::buffer, gpu::Slot::buffer, gpu::Slot::buffer, gpu::Slot::buffer,
-                 gpu::Slot::buffer, gpu::Slot::buffer, gpu::Slot::buffer, gpu::Slot::buffer},
+                {gpu::Slot::buffer, gpu::Slot::texels, gpu::Slot::texels, gpu::Slot::texels,
+                 gpu::Slot::texels, gpu::Slot::texels, gpu::Slot::buffer, gpu::Slot::buffer},
                 sizeof(shaders::ShadowmapPush), SHADOWMAP_LOCAL, SHADOWMAP_LOCAL),
         w_(w),
         h_(h) {
@@ -207,9 +207,10 @@ class Pcss final : public ShadowmapMethod {
               const std::string& label) override {
     shaders::ShadowmapPush pc{w_, h_};
     seq.dispatch(kernel_,
-                 {gpu::Binding::of(params_), gpu::Binding::of(geo), gpu::Binding::of(fg),
-                  gpu::Binding::of(hard), gpu::Binding::of(map), gpu::Binding::of(taps_),
-                  gpu::Binding::of(soft), gpu::Binding::of(stats_)},
+                 {gpu::Binding::of(params_), gpu::Binding::floats(geo), gpu::Binding::floats(fg),
+                  gpu::Binding::floats(hard), gpu::Binding::floats(map),
+                  gpu::Binding::texels(taps_, VK_FORMAT_R32G32_SFLOAT), gpu::Binding::of(soft),
+                  gpu::Binding::of(stats_)},
                  pc, w_, h_, label);
   }
   ShadowmapStats stats() const override { return read_stats(stats_); }

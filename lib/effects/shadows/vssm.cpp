@@ -335,7 +335,10 @@ class Vssm final : public detail::ShadowmapMethod {
       : hsm_k_(ctx, "shadows.vssm.hsm", isg_spv_shadowmap_hsm, {gpu::Slot::buffer, gpu::Slot::buffer},
                sizeof(shaders::HsmPush), HSM_LOCAL, HSM_LOCAL),
         shade_k_(ctx, "shadows.vssm", isg_spv_shadowmap_vssm,
-                 std::vector<gpu::Slot>(11, gpu::Slot::buffer), sizeof(shaders::ShadowmapPush),
+                 {gpu::Slot::buffer, gpu::Slot::texels, gpu::Slot::texels, gpu::Slot::texels,
+                  gpu::Slot::texels, gpu::Slot::buffer, gpu::Slot::texels, gpu::Slot::texels,
+                  gpu::Slot::texels, gpu::Slot::buffer, gpu::Slot::buffer},
+                 sizeof(shaders::ShadowmapPush),
                  SHADOWMAP_LOCAL, SHADOWMAP_LOCAL),
         sat_(ctx), v_(vssm_setup(map)), w_(w), h_(h), mw_(uint32_t(map.width)),
         mh_(uint32_t(map.height)) {
@@ -377,10 +380,12 @@ class Vssm final : public detail::ShadowmapMethod {
     sat_.record(seq, map, sat2_, mw_, mh_, f2_, label + ".sat_z2");
     shaders::ShadowmapPush pc{w_, h_};
     seq.dispatch(shade_k_,
-                 {gpu::Binding::of(params_), gpu::Binding::of(geo), gpu::Binding::of(fg),
-                  gpu::Binding::of(hard), gpu::Binding::of(map), gpu::Binding::of(vparams_),
-                  gpu::Binding::of(hsm_), gpu::Binding::of(sat1_), gpu::Binding::of(sat2_),
-                  gpu::Binding::of(soft), gpu::Binding::of(stats_)},
+                 {gpu::Binding::of(params_), gpu::Binding::floats(geo), gpu::Binding::floats(fg),
+                  gpu::Binding::floats(hard), gpu::Binding::floats(map), gpu::Binding::of(vparams_),
+                  gpu::Binding::texels(hsm_, VK_FORMAT_R32G32_SFLOAT),
+                  gpu::Binding::texels(sat1_, VK_FORMAT_R32G32_UINT),
+                  gpu::Binding::texels(sat2_, VK_FORMAT_R32G32_UINT), gpu::Binding::of(soft),
+                  gpu::Binding::of(stats_)},
                  pc, w_, h_, label);
   }
   ShadowmapStats stats() const override { return detail::read_stats(stats_); }
