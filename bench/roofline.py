@@ -36,8 +36,7 @@ L = ["# Roofline: a plain cross-bilateral gather", "",
      f"GPU time from {R['timing']}, best of {R['repeats']} dispatches after a warm-up; "
      f"workgroup {R['workgroup'][0]}x{R['workgroup'][1]}. Load average (1 min) before and after: "
      f"{R['load_average'][0]:.1f}, {R['load_average'][1]:.1f} on 2 cores: other processes took "
-     "their share, so these are lower bounds (an earlier run at load 1.4, radii 4, 16, 64, gave "
-     "338-406 M taps/s, 49 and 81 taps alike).", "",
+     "their share, so these are lower bounds.", "",
      "Each tap reads one 16-byte texel (rgb + depth) through a texel view of a buffer (a `samplerBuffer`, "
      "as the isg passes read their inputs; from a storage buffer instead lavapipe reached 41-44 M taps/s, "
      "lib/roofline/roofline.h) and weighs it by one "
