@@ -1,17 +1,18 @@
 #version 450
 // The roofline (issue 18): a plain cross-bilateral gather, the least a gather pass can do per
-// tap (one 16-byte texel read through a texel view, one exp range weight, four multiply-adds), so its taps/s is the
-// yardstick for the isg gathers on the same device. lib/roofline/roofline.cpp mirrors it in
-// double.
+// tap (one 16-byte texel read through a texel view, one exp range weight, four multiply-adds),
+// so its taps/s is the yardstick for the isg gathers on the same device.
+// lib/roofline/roofline.cpp mirrors it in double.
 #extension GL_GOOGLE_include_directive : require
 #include "roofline_gather_io.h"
 #include "isg_sampling.h"
 layout(local_size_x = ROOFLINE_LOCAL_X, local_size_y = ROOFLINE_LOCAL_Y) in;
 // Integer offsets (a concentric-disk lattice already scaled by the radius and rounded on the
 // host): the reference then reads exactly the texels this shader reads, whatever the device's
-// float rounding.
+// float rounding. Both inputs are texel views (gpu.h's Slot::texels): (x, y) as two uints, and
+// rgb + depth.
 layout(binding = 0) uniform usamplerBuffer offsets;
-layout(binding = 1) uniform samplerBuffer src;  // rgb + depth
+layout(binding = 1) uniform samplerBuffer src;
 layout(std430, binding = 2) writeonly restrict buffer Dst { vec4 dst[]; };
 layout(push_constant) uniform Push { RooflinePush pc; };
 

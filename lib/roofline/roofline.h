@@ -5,8 +5,9 @@
 // instead, lavapipe (Mesa 22.3) reached 41-44 M taps/s at 1920x1080, radii 4-64: llvmpipe loads
 // a storage buffer one lane and one component at a time; through the texel view 240-370 M.
 //
-// Workgroup shapes tried on lavapipe (llvmpipe, LLVM 15, 256-bit; 2 cores shared with other
-// builds, load 4-8, so best of 2 rounds of 8 dispatches, 960x540, 49 taps), M taps/s at radius
+// Workgroup shapes tried on lavapipe (an earlier machine, storage-buffer reads; llvmpipe, LLVM 15,
+// 256-bit; 2 cores shared with other builds, load 4-8, so best of 2 rounds of 8 dispatches,
+// 960x540, 49 taps), M taps/s at radius
 // 16 / 64: 8x8 187/122, 16x16 184/141, 32x1 136/119, 64x1 126/122, 8x4 152/110, 4x4 97/91,
 // 16x4 130/113, 16x2 129/142, 32x2 139/125. On the quiet machine 8x8 gave 390 M taps/s at
 // 1920x1080 (16x4 the same); the load, not the shape, moves the rest. 8x8 is kept
