@@ -24,7 +24,8 @@ std::vector<params::Def> output_params() {
       params::def(output_keys::tile_size, "0", 0, 1 << 16,
        "process the image in tiles of this many pixels a side (rounded up to 16), each with the "
        "apron its passes read, giving what one piece would; 0: only when the plan's buffers "
-       "exceed half the device's memory or its largest storage buffer", "pixels"),
+       "exceed the device's memory (half of a discrete GPU's; on unified memory, its whole heap) or "
+       "its largest storage buffer", "pixels"),
       params::def(output_keys::check_seconds, "30", 0, 3600,
        "time OpenEXR may take to decode an input, in a child process where a damaged file "
        "cannot crash or hang isg (0: decode in isg itself, for trusted files only)", "s"),

@@ -157,7 +157,7 @@ io::Image crop(const io::Image& img, int x, int y, int w, int h) {
 }
 
 // The tile edge for this frame: limits.tile_size, or when the plan does not fit the device
-// (half its memory, or its largest storage buffer or texel view) the largest that does; 0: one
+// (its memory budget, or its largest storage buffer or texel view) the largest that does; 0: one
 // piece.
 int tile_edge(const gpu::Context& ctx, const JobConfig& job, const LoadedFrame& f) {
   const int W = f.img.width, H = f.img.height;
@@ -167,7 +167,12 @@ int tile_edge(const gpu::Context& ctx, const JobConfig& job, const LoadedFrame& 
     uint64_t largest = 0;
     for (const auto& r : f.plan.resources) largest = std::max(largest, r.bytes);
     const double px = double(W) * double(H);
-    const double budget = info.device_local_bytes ? 0.5 * double(info.device_local_bytes) : 1e300;
+    // A discrete GPU's memory is shared with the display and other processes: half of it. On
+    // unified memory the heap is host memory as the driver states it (lavapipe: a nominal 2 GiB)
+    // and the plan may take all of it: a 4K default plan (1.3 GB) then runs in one piece
+    // instead of four tiles whose aprons cost half again the GPU time.
+    const double share = ctx.unified_memory() ? 1.0 : 0.5;
+    const double budget = info.device_local_bytes ? share * double(info.device_local_bytes) : 1e300;
     // The largest buffer a pass binds: as a storage buffer, and as a texel view of 4-byte texels
     // (the gathers read their planes through texel views: gpu.h's Slot::texels).
     double range = info.max_storage_buffer_range ? double(info.max_storage_buffer_range) : 1e300;
