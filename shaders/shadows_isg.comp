@@ -75,6 +75,11 @@ float across(vec3 dP, vec3 wl) {
 // Eq. 6-7 without inShadow: a gaussian of the world distance l (scene_radius units), from
 // l² = |dP|² (no square root).
 float range_l2(float l2) { return exp(-l2 * (pc.inv_scene_radius * pc.inv_scene_radius * pc.inv_sigma)); }
+// Eq. 6-7's weight between pixel j's position and P0 (both P − eye).
+float same_surface(uint j, vec3 P0) {
+  vec3 d = texelFetch(pack, int(j)).xyz - P0;
+  return range_l2(dot(d, d));
+}
 // Eq. 8: the penumbra radius R_s on the receiver for an occluder at d, the light at D.
 float penumbra(float d, float D) { return pc.light_size * d / max(D - d, SHADOWS_ISG_MIN_GAP * D); }
 
@@ -222,7 +227,7 @@ bool reuse(vec3 P0, float Rg, out float m) {
     float w = isg_quad_weight(a, k);
     vec2 g = q_g[q];
     if (w <= 0.0 || g.y < 0.0 || g.y * SHADOWS_ISG_REUSE_RATIO < Rg || Rg * SHADOWS_ISG_REUSE_RATIO < g.y) continue;
-    if (range_l2(dot(texelFetch(pack, int(q_rep[q])).xyz - P0, texelFetch(pack, int(q_rep[q])).xyz - P0)) < SHADOWS_ISG_QUAD_SAME) continue;
+    if (same_surface(q_rep[q], P0) < SHADOWS_ISG_QUAD_SAME) continue;
     s += w * g.x;
     ws += w;
   }
@@ -243,7 +248,7 @@ float shade(uvec2 p, uint i, bool full, Recv R, float d_loc) {
   uvec2 l = gl_LocalInvocationID.xy / 2u;
   uint qs = l.y * QUADS + l.x, r = q_rep[qs];
   float d = q_d[qs];
-  if (r != i && range_l2(dot(texelFetch(pack, int(r)).xyz - R.P0, texelFetch(pack, int(r)).xyz - R.P0)) < SHADOWS_ISG_QUAD_SAME) {
+  if (r != i && same_surface(r, R.P0) < SHADOWS_ISG_QUAD_SAME) {
     d = search(R, p, i, Rp_raw);
     atomicAdd(s_stat[SHADOWS_ISG_STAT_SEARCHES], 1u);
   }
