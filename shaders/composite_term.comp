@@ -1,6 +1,7 @@
 #version 450
 #extension GL_GOOGLE_include_directive : require
 #include "composite_term_io.h"
+#include "isg_texels.h"
 layout(local_size_x = COMPOSITE_TERM_LOCAL, local_size_y = COMPOSITE_TERM_LOCAL) in;
 layout(std430, binding = 0) buffer Composite { float C[]; };
 layout(binding = 1) uniform samplerBuffer W;
@@ -17,6 +18,6 @@ void main() {
   uint n = pc.width * pc.height;
   for (uint c = 0u; c < 3u; ++c) {
     uint xc = pc.x_planes == 1u ? 0u : c;
-    C[c * n + i] += texelFetch(W, int(c * n + i)).r * (texelFetch(X_, int(xc * n + i)).r - texelFetch(Y_, int(xc * n + i)).r);
+    C[c * n + i] += isg_at(W, c * n + i) * (isg_at(X_, xc * n + i) - isg_at(Y_, xc * n + i));
   }
 }

@@ -4,6 +4,7 @@
 // copy of the composite for the gathers to read while they write the composite, as one RGBA
 // texel a pixel (a bilinear tap is four 16-byte loads, not sixteen scattered floats; issue 18).
 #include "dof_coc_io.h"
+#include "isg_texels.h"
 layout(local_size_x = DOF_LOCAL, local_size_y = DOF_LOCAL) in;
 layout(binding = 0) uniform samplerBuffer C;
 layout(binding = 1) uniform samplerBuffer depth;
@@ -17,9 +18,9 @@ void main() {
   uint n = pc.width * pc.height;
   uint i = p.y * pc.width + p.x;
   float z = texelFetch(depth, int(i)).r;
-  bool bg = z <= 0.0 || z >= ISG_BACKGROUND_DEPTH || (pc.has_alpha != 0u && texelFetch(C, int(3u * n + i)).r == 0.0);
+  bool bg = z <= 0.0 || z >= ISG_BACKGROUND_DEPTH || (pc.has_alpha != 0u && isg_at(C, 3u * n + i) == 0.0);
   // Background blurs like a point at infinity: c -> c_inf.
   float c = bg ? pc.c_inf : pc.c_inf * (z - pc.z_f) / z;
   coc[i] = clamp(c, -pc.max_coc, pc.max_coc);
-  src[i] = vec4(texelFetch(C, int(i)).r, texelFetch(C, int(n + i)).r, texelFetch(C, int(2u * n + i)).r, texelFetch(C, int(3u * n + i)).r);
+  src[i] = isg_at4(C, i, n);
 }

@@ -5,6 +5,7 @@
 #define DOF_COMMON_H
 #include "dof_io.h"
 #include "isg_sampling.h"
+#include "isg_texels.h"
 const float DOF_PI = 3.14159265358979;
 
 // The sample lattice through the concentric map, evaluated once per workgroup rather than once
@@ -56,14 +57,17 @@ void dof_taps(vec2 q, uint w, uint h, out uint i00, out uint i10, out uint i01, 
 float dof_fetch_coc(vec2 q) {
   uint a, b, c, d; vec2 f;
   dof_taps(q, pc.width, pc.height, a, b, c, d, f);
-  return mix(mix(texelFetch(coc_buf, int(a)).r, texelFetch(coc_buf, int(b)).r, f.x), mix(texelFetch(coc_buf, int(c)).r, texelFetch(coc_buf, int(d)).r, f.x), f.y);
+  return mix(mix(isg_at(coc_buf, a), isg_at(coc_buf, b), f.x), mix(isg_at(coc_buf, c), isg_at(coc_buf, d), f.x),
+             f.y);
 }
 #endif
 #ifdef DOF_HAS_SRC
 vec4 dof_fetch_src(vec2 q) {
   uint a, b, c, d; vec2 f;
   dof_taps(q, pc.width, pc.height, a, b, c, d, f);
-  return mix(mix(texelFetch(src_buf, int(a)), texelFetch(src_buf, int(b)), f.x), mix(texelFetch(src_buf, int(c)), texelFetch(src_buf, int(d)), f.x), f.y);
+  vec4 ta = texelFetch(src_buf, int(a)), tb = texelFetch(src_buf, int(b));
+  vec4 tc = texelFetch(src_buf, int(c)), td = texelFetch(src_buf, int(d));
+  return mix(mix(ta, tb, f.x), mix(tc, td, f.x), f.y);
 }
 vec4 dof_src(uint i) { return texelFetch(src_buf, int(i)); }
 // The cheap path (tiles whose CoC range is under DOF_CHEAP_RANGE): a plain aperture average of

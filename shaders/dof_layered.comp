@@ -8,7 +8,7 @@
 // blurry foreground over an in-focus object.
 #include "dof_layered_io.h"
 layout(local_size_x = DOF_LOCAL, local_size_y = DOF_LOCAL) in;
-layout(binding = 0) uniform samplerBuffer src_buf;  // dof.input, RGBA texels (a texel view: gpu.h's Slot::texels)
+layout(binding = 0) uniform samplerBuffer src_buf;  // dof.input, RGBA texels (texel views)
 layout(binding = 1) uniform samplerBuffer coc_buf;
 layout(binding = 2) uniform samplerBuffer tiles;
 layout(std430, binding = 3) writeonly buffer Composite { float C[]; };

@@ -7,6 +7,7 @@
 #extension GL_GOOGLE_include_directive : require
 #include "reflections_isg_io.h"
 #include "isg_view.h"
+#include "isg_texels.h"
 layout(local_size_x = REFL_PACK_LOCAL, local_size_y = 1) in;
 layout(binding = 0) uniform samplerBuffer refl;
 layout(binding = 1) uniform samplerBuffer dist;
@@ -25,19 +26,19 @@ void main() {
   mat3 rot = mat3(pc.r00, pc.r10, pc.r20, pc.r01, pc.r11, pc.r21, pc.r02, pc.r12, pc.r22);
   vec3 rel;
   if ((pc.flags & REFL_HAS_POSITION) != 0u) {
-    rel = isg_rel_from_world(vec3(texelFetch(geo, int(i)).r, texelFetch(geo, int(n + i)).r, texelFetch(geo, int(2u * n + i)).r), vec3(pc.eye_x, pc.eye_y, pc.eye_z),
+    rel = isg_rel_from_world(isg_at3(geo, i, n), vec3(pc.eye_x, pc.eye_y, pc.eye_z),
                              vec3(pc.eye_lo_x, pc.eye_lo_y, pc.eye_lo_z));
   } else {
     // Frame coordinates (a tile adds its origin), so a tile rounds as the whole frame does.
     vec2 xy = vec2(p + uvec2(pc.origin & 0xffffu, pc.origin >> 16)) + 0.5;
     rel = isg_rel_from_depth(xy, texelFetch(geo, int(i)).r, vec2(pc.cx, pc.cy), pc.f_px, rot);
   }
-  vec3 N = vec3(texelFetch(nrm, int(i)).r, texelFetch(nrm, int(n + i)).r, texelFetch(nrm, int(2u * n + i)).r);
+  vec3 N = isg_at3(nrm, i, n);
   N = length(N) > 0.0 ? N : vec3(0.0, 0.0, 1.0);
   pack_geo[i] = uvec4(floatBitsToUint(rel), isg_oct_encode(N));
-  vec3 w = vec3(texelFetch(weight, int(i)).r, texelFetch(weight, int(n + i)).r, texelFetch(weight, int(2u * n + i)).r);
+  vec3 w = isg_at3(weight, i, n);
   bool has_refl = texelFetch(fg, int(i)).r != 0.0 && max(w.r, max(w.g, w.b)) > 0.0;
   float d = texelFetch(dist, int(i)).r;
-  pack_color[i] = vec4(texelFetch(refl, int(i)).r, texelFetch(refl, int(n + i)).r, texelFetch(refl, int(2u * n + i)).r,
+  pack_color[i] = vec4(isg_at3(refl, i, n),
                        has_refl ? (d > 0.0 ? d : 0.0) : REFL_NO_REFLECTION);
 }

@@ -8,6 +8,7 @@
 #extension GL_GOOGLE_include_directive : require
 #include "shadows_isg_io.h"
 #include "isg_view.h"
+#include "isg_texels.h"
 layout(local_size_x = SHADOWS_ISG_TILE, local_size_y = SHADOWS_ISG_TILE) in;
 layout(binding = 0) uniform samplerBuffer shadow_in;
 layout(binding = 1) uniform samplerBuffer occluder;
@@ -35,9 +36,10 @@ void main() {
       uint f = (s > 0.0 ? SHADOWS_ISG_FLAG_LIT : 0u) | (s < 1.0 ? SHADOWS_ISG_FLAG_SHADOW : 0u);
       atomicOr(s_flags, f);
       // Positive floats order as their bits.
-      if (s < 1.0 && texelFetch(occluder, int(i)).r > 0.0) atomicMax(s_dmax, floatBitsToUint(texelFetch(occluder, int(i)).r));
+      float o = isg_at(occluder, i);
+      if (s < 1.0 && o > 0.0) atomicMax(s_dmax, floatBitsToUint(o));
       if ((pc.flags & SHADOWS_ISG_HAS_POSITION) != 0u) {
-        rel = isg_rel_from_world(vec3(texelFetch(geo, int(i)).r, texelFetch(geo, int(n + i)).r, texelFetch(geo, int(2u * n + i)).r), vec3(pc.eye_x, pc.eye_y, pc.eye_z),
+        rel = isg_rel_from_world(isg_at3(geo, i, n), vec3(pc.eye_x, pc.eye_y, pc.eye_z),
                                  vec3(pc.eye_lo_x, pc.eye_lo_y, pc.eye_lo_z));
       } else {
         // Frame coordinates (a tile adds its origin), so a tile rounds as the whole frame does.

@@ -82,7 +82,9 @@ void GatherPass::record(gpu::Sequence& seq, const gpu::Buffer& offsets, const gp
                         const gpu::Buffer& dst, uint32_t w, uint32_t h, uint32_t taps,
                         float falloff, const std::string& label) {
   shaders::RooflinePush pc{w, h, taps, falloff};
-  seq.dispatch(kernel_, {gpu::Binding::texels(offsets, VK_FORMAT_R32G32_UINT), gpu::Binding::texels(src, VK_FORMAT_R32G32B32A32_SFLOAT), gpu::Binding::of(dst)},
+  seq.dispatch(kernel_,
+               {gpu::Binding::texels(offsets, VK_FORMAT_R32G32_UINT), gpu::Binding::float4s(src),
+                gpu::Binding::of(dst)},
                pc, w, h, label);
 }
 

@@ -176,7 +176,8 @@ int tile_edge(const gpu::Context& ctx, const JobConfig& job, const LoadedFrame& 
     // The largest buffer a pass binds: as a storage buffer, and as a texel view of 4-byte texels
     // (the gathers read their planes through texel views: gpu.h's Slot::texels).
     double range = info.max_storage_buffer_range ? double(info.max_storage_buffer_range) : 1e300;
-    if (info.max_texel_buffer_elements) range = std::min(range, 4.0 * double(info.max_texel_buffer_elements));
+    if (info.max_texel_buffer_elements)
+      range = std::min(range, 4.0 * double(info.max_texel_buffer_elements));
     const double fit = std::min(budget / (double(f.plan.gpu_bytes()) / px), range / (double(largest) / px));
     if (fit >= px) return 0;
     t = std::max<int64_t>(64, int64_t(std::sqrt(fit)) - 2 * int64_t(f.plan.reach));

@@ -388,15 +388,14 @@ void DofPass::record_coc(gpu::Sequence& seq, const gpu::Buffer& composite, bool 
                          const gpu::Buffer& input, uint32_t w, uint32_t h) {
   if (!k_->coc) k_->coc = make_kernel(ctx_, "dof.coc", isg_spv_dof_coc, {T, T, B, B});
   seq.dispatch(*k_->coc,
-               {Bind::floats(composite), Bind::floats(depth), gpu::Binding::of(coc),
-                gpu::Binding::of(input)},
+               {Bind::floats(composite), Bind::floats(depth), Bind::of(coc), Bind::of(input)},
                push_of(s_, w, h, has_alpha), w, h, "dof.coc");
 }
 
 void DofPass::record_tiles(gpu::Sequence& seq, const gpu::Buffer& coc, const gpu::Buffer& tiles,
                            uint32_t w, uint32_t h) {
   if (!k_->tiles) k_->tiles = make_kernel(ctx_, "dof.tiles", isg_spv_dof_tiles, {T, B});
-  seq.dispatch(*k_->tiles, {Bind::floats(coc), gpu::Binding::of(tiles)},
+  seq.dispatch(*k_->tiles, {Bind::floats(coc), Bind::of(tiles)},
                push_of(s_, w, h, false), dof_tiles_x(w) * DOF_LOCAL, dof_tiles_y(h) * DOF_LOCAL,
                "dof.tiles");  // one workgroup per tile
 }
@@ -405,25 +404,28 @@ void DofPass::record_search(gpu::Sequence& seq, const gpu::Buffer& coc, const gp
                             const gpu::Buffer& radius, uint32_t w, uint32_t h) {
   if (!k_->search) k_->search = make_kernel(ctx_, "dof.search", isg_spv_dof_search, {T, T, B});
   seq.dispatch(*k_->search,
-               {Bind::floats(coc), Bind::floats(tiles), gpu::Binding::of(radius)},
+               {Bind::floats(coc), Bind::floats(tiles), Bind::of(radius)},
                push_of(s_, w, h, false), w, h, "dof.search");
 }
 
 void DofPass::record_gather(gpu::Sequence& seq, const gpu::Buffer& input, const gpu::Buffer& coc,
                             const gpu::Buffer& tiles, const gpu::Buffer& radius,
                             const gpu::Buffer& composite, uint32_t w, uint32_t h) {
-  if (!k_->gather) k_->gather = make_kernel(ctx_, "dof.gather", isg_spv_dof_gather, {T, T, T, T, B});
+  if (!k_->gather)
+    k_->gather = make_kernel(ctx_, "dof.gather", isg_spv_dof_gather, {T, T, T, T, B});
   seq.dispatch(*k_->gather,
-               {Bind::float4s(input), Bind::floats(coc), Bind::floats(tiles), Bind::floats(radius), gpu::Binding::of(composite)},
+               {Bind::float4s(input), Bind::floats(coc), Bind::floats(tiles), Bind::floats(radius),
+                Bind::of(composite)},
                push_of(s_, w, h, false), w, h, "dof.gather");
 }
 
 void DofPass::record_layered(gpu::Sequence& seq, const gpu::Buffer& input, const gpu::Buffer& coc,
                              const gpu::Buffer& tiles, const gpu::Buffer& composite, uint32_t w,
                              uint32_t h) {
-  if (!k_->layered) k_->layered = make_kernel(ctx_, "dof.layered", isg_spv_dof_layered, {T, T, T, B});
+  if (!k_->layered)
+    k_->layered = make_kernel(ctx_, "dof.layered", isg_spv_dof_layered, {T, T, T, B});
   seq.dispatch(*k_->layered,
-               {Bind::float4s(input), Bind::floats(coc), Bind::floats(tiles), gpu::Binding::of(composite)},
+               {Bind::float4s(input), Bind::floats(coc), Bind::floats(tiles), Bind::of(composite)},
                push_of(s_, w, h, false), w, h, "dof.layered");
 }
 
