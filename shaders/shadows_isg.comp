@@ -271,13 +271,16 @@ float shade(uvec2 p, uint i, bool full, Recv R, float d_loc) {
 }
 
 void main() {
-  uvec2 p = gl_GlobalInvocationID.xy;
-  bool inside = p.x < pc.width && p.y < pc.height;
-  uint i = inside ? p.y * pc.width + p.x : 0u;
   uint tiles_x = (pc.width + SHADOWS_ISG_TILE - 1u) / SHADOWS_ISG_TILE;
   uint tiles_y = (pc.height + SHADOWS_ISG_TILE - 1u) / SHADOWS_ISG_TILE;
   uint nt = tiles_x * tiles_y;
-  float d_max = uintBitsToFloat(tiles[3u * nt + SHADOWS_ISG_STAT_DMAX]);
+  // Dispatched over the tiles shadows.isg.list kept: workgroup k is tile tiles[list + k].
+  uint tile = tiles[SHADOWS_ISG_AT_LIST(nt) + gl_WorkGroupID.x];
+  uvec2 wg = uvec2(tile % tiles_x, tile / tiles_x);
+  uvec2 p = wg * SHADOWS_ISG_TILE + gl_LocalInvocationID.xy;
+  bool inside = p.x < pc.width && p.y < pc.height;
+  uint i = inside ? p.y * pc.width + p.x : 0u;
+  float d_max = uintBitsToFloat(tiles[SHADOWS_ISG_AT_STATS(nt) + SHADOWS_ISG_STAT_DMAX]);
   if (gl_LocalInvocationIndex == 0u) {
     s_rp = 0u;
     s_reach = 0u;
@@ -298,7 +301,7 @@ void main() {
   barrier();
   // The tiles the search and the gather can reach (radius + 1 for the bilinear taps).
   int reach = int(ceil(uintBitsToFloat(s_rp))) + 1;
-  ivec2 t0 = ivec2(gl_WorkGroupID.xy) * SHADOWS_ISG_TILE;
+  ivec2 t0 = ivec2(wg) * SHADOWS_ISG_TILE;
   ivec2 lo = max((t0 - reach) / SHADOWS_ISG_TILE, ivec2(0));
   ivec2 hi = min((t0 + SHADOWS_ISG_TILE - 1 + reach) / SHADOWS_ISG_TILE, ivec2(tiles_x - 1u, tiles_y - 1u));
   int span = hi.x - lo.x + 1, count = span * (hi.y - lo.y + 1);
@@ -310,7 +313,7 @@ void main() {
   barrier();
   bool cheap = (pc.flags & SHADOWS_ISG_TILE_SKIP) != 0u &&
                s_reach != (SHADOWS_ISG_FLAG_LIT | SHADOWS_ISG_FLAG_SHADOW);
-  if (gl_LocalInvocationIndex == 0u) tiles[2u * nt + gl_WorkGroupID.y * tiles_x + gl_WorkGroupID.x] = cheap ? 1u : 0u;
+  if (gl_LocalInvocationIndex == 0u) tiles[2u * nt + tile] = cheap ? 1u : 0u;
   // Eq. 5: the search radius R_p covers the widest penumbra the occluders around can cast.
   float d_loc = uintBitsToFloat(s_dloc);
 
@@ -319,7 +322,7 @@ void main() {
   // on one part); the partial sums are added in a fixed order. `cheap` is uniform over the tile.
   if (!cheap) {
     uint q = gl_LocalInvocationIndex % (QUADS * QUADS), part = gl_LocalInvocationIndex / (QUADS * QUADS);
-    uvec2 base = gl_WorkGroupID.xy * SHADOWS_ISG_TILE + 2u * uvec2(q % QUADS, q / QUADS);
+    uvec2 base = wg * SHADOWS_ISG_TILE + 2u * uvec2(q % QUADS, q / QUADS);
     uint r = NO_REP;
     uvec2 rp = base;
     for (uint k = 0u; k < 4u; ++k) {
@@ -363,5 +366,5 @@ void main() {
   barrier();
   if (gl_LocalInvocationIndex >= SHADOWS_ISG_STAT_CLAMPED && gl_LocalInvocationIndex < SHADOWS_ISG_STATS &&
       s_stat[gl_LocalInvocationIndex] != 0u)
-    atomicAdd(tiles[3u * nt + gl_LocalInvocationIndex], s_stat[gl_LocalInvocationIndex]);
+    atomicAdd(tiles[SHADOWS_ISG_AT_STATS(nt) + gl_LocalInvocationIndex], s_stat[gl_LocalInvocationIndex]);
 }

@@ -8,7 +8,14 @@ ISG_IO_BEGIN
 // The tiles buffer (uint): [0, nt) tile flags from shadows.isg.tiles (bit 0: a foreground pixel
 // with some light, bit 1: one with some shadow), [nt, 2nt) the tile's largest occluder distance
 // (float bits), [2nt, 3nt) 1 where shadows.isg took the cheap path, then the statistics at
-// 3nt + SHADOWS_ISG_STAT_*.
+// 3nt + SHADOWS_ISG_STAT_*; then the tiles shadows.isg runs on (shadows.isg.list): a
+// VkDispatchIndirectCommand, then the tile indices.
+#define SHADOWS_ISG_AT_STATS(nt) (3u * (nt))
+#define SHADOWS_ISG_AT_ARGS(nt) (3u * (nt) + SHADOWS_ISG_STATS)
+#define SHADOWS_ISG_AT_LIST(nt) (3u * (nt) + SHADOWS_ISG_STATS + 3u)
+#define SHADOWS_ISG_TILES_WORDS(nt) (4u * (nt) + SHADOWS_ISG_STATS + 3u)
+// Pass shadows.isg.list: one lane per tile.
+#define SHADOWS_ISG_LIST_LOCAL 64
 #define SHADOWS_ISG_FLAG_LIT 1u
 #define SHADOWS_ISG_FLAG_SHADOW 2u
 #define SHADOWS_ISG_STAT_DMAX 0u     // the image's largest occluder distance (float bits)
@@ -103,6 +110,26 @@ struct ShadowsIsgTilesPush {
   float r11;
   float r12;
   float r20;
+  float r21;
+  float r22;
+};
+// Pass shadows.isg.list: the tiles shadows.isg must run on. A tile is left out (its pixels keep
+// the hard shadow, copied before) only where no shadow boundary lies within a reach that bounds
+// shadows.isg's own: eq. 5's R_p from the image's d_max at the tile's smallest distance to the
+// light and camera depth, over the pixel's footprint at its least (z / f_px /
+// SHADOWS_ISG_MAX_STRETCH). shadows.isg would take its cheap path there; the tiles listed decide
+// for themselves as before.
+struct ShadowsIsgListPush {
+  uint width;
+  uint height;
+  uint flags;          // SHADOWS_ISG_TILE_SKIP
+  float light_size;
+  float max_radius;
+  float f_px;
+  float light_x;       // light − eye, as ShadowsIsgPush
+  float light_y;
+  float light_z;
+  float r20;           // the world-to-camera rotation's last row (camera depth = −row · (P − eye))
   float r21;
   float r22;
 };

@@ -218,6 +218,19 @@ class Sequence {
     if (sizeof(P) != k.push_bytes()) throw GpuError("push constant size mismatch for " + k.name());
     dispatch(k, bindings, static_cast<const void*>(&push), width, height, label);
   }
+  // The same with the workgroup counts read on the device from `args` at `offset` (a
+  // VkDispatchIndirectCommand an earlier pass wrote: e.g. only the tiles that need the work).
+  template <class P>
+  void dispatch_indirect(const Kernel& k, const std::vector<Binding>& bindings, const P& push,
+                         const Buffer& args, VkDeviceSize offset, const std::string& label = {}) {
+    static_assert(std::is_trivially_copyable_v<P>);
+    if (sizeof(P) != k.push_bytes()) throw GpuError("push constant size mismatch for " + k.name());
+    record(k, bindings, &push, label, [&](VkCommandBuffer cmd) {
+      vkCmdDispatchIndirect(cmd, args.handle(), offset);
+    });
+  }
+  // Copies the whole of `src` into `dst` (same size), timed as `label`.
+  void copy(const Buffer& src, const Buffer& dst, const std::string& label);
   // Submits, waits, and returns the GPU time of each dispatch (empty names merged by kernel).
   std::vector<PassTime> submit();
 
@@ -232,6 +245,12 @@ class Sequence {
   bool recording_ = false;
   void begin();
   void release();
+  // Binds k with its bindings and push constants, runs `work` between the pass's timestamps and
+  // ends the pass with the barrier that makes its writes visible to the next pass.
+  void record(const Kernel& k, const std::vector<Binding>& bindings, const void* push,
+              const std::string& label, const std::function<void(VkCommandBuffer)>& work);
+  uint32_t open_pass(const std::string& label);
+  void close_pass(uint32_t q);
 };
 
 class Context {

@@ -143,11 +143,6 @@ void Sequence::begin() {
 
 void Sequence::dispatch(const Kernel& k, const std::vector<Binding>& bindings, const void* push,
                         uint32_t width, uint32_t height, const std::string& label) {
-  if (bindings.size() != k.slots().size()) {
-    throw GpuError(k.name() + ": expects " + std::to_string(k.slots().size()) + " bindings, got " +
-                   std::to_string(bindings.size()));
-  }
-  if (labels_.size() >= max_passes_) throw GpuError("Sequence: too many dispatches");
   uint32_t gx = (width + k.local_x() - 1) / k.local_x();
   uint32_t gy = (height + k.local_y() - 1) / k.local_y();
   const auto& lim = ctx_.info().max_workgroup_count;
@@ -155,6 +150,50 @@ void Sequence::dispatch(const Kernel& k, const std::vector<Binding>& bindings, c
     throw GpuError(k.name() + ": " + std::to_string(width) + "x" + std::to_string(height) +
                    " needs more workgroups than the device allows");
   }
+  record(k, bindings, push, label, [&](VkCommandBuffer cmd) { vkCmdDispatch(cmd, gx, gy, 1); });
+}
+
+uint32_t Sequence::open_pass(const std::string& label) {
+  if (labels_.size() >= max_passes_) throw GpuError("Sequence: too many dispatches");
+  if (!recording_) begin();
+  uint32_t q = static_cast<uint32_t>(labels_.size());
+  labels_.push_back(label);
+  if (queries_) vkCmdWriteTimestamp(cmd_, VK_PIPELINE_STAGE_TOP_OF_PIPE_BIT, queries_, 2 * q);
+  return q;
+}
+
+// Every pass ends with one barrier: its writes (shader or transfer) visible to the next pass's
+// shader reads and writes, transfers and indirect arguments.
+void Sequence::close_pass(uint32_t q) {
+  VkMemoryBarrier mb{VK_STRUCTURE_TYPE_MEMORY_BARRIER};
+  mb.srcAccessMask = VK_ACCESS_SHADER_WRITE_BIT | VK_ACCESS_TRANSFER_WRITE_BIT;
+  mb.dstAccessMask = VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_SHADER_WRITE_BIT |
+                     VK_ACCESS_INDIRECT_COMMAND_READ_BIT | VK_ACCESS_TRANSFER_READ_BIT |
+                     VK_ACCESS_TRANSFER_WRITE_BIT;
+  const VkPipelineStageFlags stages =
+      VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_TRANSFER_BIT;
+  vkCmdPipelineBarrier(cmd_, stages, stages | VK_PIPELINE_STAGE_DRAW_INDIRECT_BIT, 0, 1, &mb, 0,
+                       nullptr, 0, nullptr);
+  if (queries_) {
+    vkCmdWriteTimestamp(cmd_, VK_PIPELINE_STAGE_BOTTOM_OF_PIPE_BIT, queries_, 2 * q + 1);
+  }
+}
+
+void Sequence::copy(const Buffer& src, const Buffer& dst, const std::string& label) {
+  if (src.size() != dst.size()) throw GpuError("Sequence::copy: " + label + ": sizes differ");
+  const uint32_t q = open_pass(label);
+  VkBufferCopy c{0, 0, src.size()};
+  vkCmdCopyBuffer(cmd_, src.handle(), dst.handle(), 1, &c);
+  close_pass(q);
+}
+
+void Sequence::record(const Kernel& k, const std::vector<Binding>& bindings, const void* push,
+                      const std::string& label, const std::function<void(VkCommandBuffer)>& work) {
+  if (bindings.size() != k.slots().size()) {
+    throw GpuError(k.name() + ": expects " + std::to_string(k.slots().size()) + " bindings, got " +
+                   std::to_string(bindings.size()));
+  }
+  if (labels_.size() >= max_passes_) throw GpuError("Sequence: too many dispatches");
   if (!recording_) begin();
 
   VkDescriptorSetAllocateInfo ai{VK_STRUCTURE_TYPE_DESCRIPTOR_SET_ALLOCATE_INFO};
@@ -209,25 +248,14 @@ void Sequence::dispatch(const Kernel& k, const std::vector<Binding>& bindings, c
   vkUpdateDescriptorSets(ctx_.device(), static_cast<uint32_t>(writes.size()), writes.data(), 0,
                          nullptr);
 
-  uint32_t q = static_cast<uint32_t>(labels_.size());
-  labels_.push_back(label.empty() ? k.name() : label);
-  if (queries_) {
-    vkCmdWriteTimestamp(cmd_, VK_PIPELINE_STAGE_TOP_OF_PIPE_BIT, queries_, 2 * q);
-  }
+  const uint32_t q = open_pass(label.empty() ? k.name() : label);
   vkCmdBindPipeline(cmd_, VK_PIPELINE_BIND_POINT_COMPUTE, k.pipeline());
   vkCmdBindDescriptorSets(cmd_, VK_PIPELINE_BIND_POINT_COMPUTE, k.layout(), 0, 1, &set, 0, nullptr);
   if (k.push_bytes()) {
     vkCmdPushConstants(cmd_, k.layout(), VK_SHADER_STAGE_COMPUTE_BIT, 0, k.push_bytes(), push);
   }
-  vkCmdDispatch(cmd_, gx, gy, 1);
-  VkMemoryBarrier mb{VK_STRUCTURE_TYPE_MEMORY_BARRIER};
-  mb.srcAccessMask = VK_ACCESS_SHADER_WRITE_BIT;
-  mb.dstAccessMask = VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_SHADER_WRITE_BIT;
-  vkCmdPipelineBarrier(cmd_, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT,
-                       VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, 0, 1, &mb, 0, nullptr, 0, nullptr);
-  if (queries_) {
-    vkCmdWriteTimestamp(cmd_, VK_PIPELINE_STAGE_BOTTOM_OF_PIPE_BIT, queries_, 2 * q + 1);
-  }
+  work(cmd_);
+  close_pass(q);
 }
 
 std::vector<PassTime> Sequence::submit() {

@@ -161,6 +161,9 @@ TEST_F(ShadowsIsg, GpuMatchesReference) {
       EXPECT_NEAR(double(st_ref.searches), double(st_gpu.searches), 0.01 * double(st_ref.searches));
       EXPECT_NEAR(double(st_ref.gathers), double(st_gpu.gathers), 0.01 * double(st_ref.gathers));
       EXPECT_NEAR(st_ref.skipped_fraction, st_gpu.skipped_fraction, 1e-9);
+      // shadows.isg.list dispatched every tile that did not take the cheap path.
+      EXPECT_GE(st_gpu.dispatched_fraction, 1.0 - st_gpu.skipped_fraction - 1e-9);
+      EXPECT_LE(st_gpu.dispatched_fraction, 1.0);
       EXPECT_FLOAT_EQ(float(st_ref.d_max), float(st_gpu.d_max));
     }
   }
@@ -198,11 +201,14 @@ TEST_F(ShadowsIsg, ParallelPlanesClosedForm) {
   fx::ShadowIsgStats st;
   auto soft = run_gpu(in, pl.settings(25, 49), &st);
   const double e = pl.rmse(soft), hard = pl.hard_rmse(in);
-  std::printf("parallel planes: RMSE %.5f (hard %.5f), %.1f%% tiles skipped\n", e, hard,
-              100 * st.skipped_fraction);
+  std::printf("parallel planes: RMSE %.5f (hard %.5f), %.1f%% tiles skipped, %.1f%% dispatched\n",
+              e, hard, 100 * st.skipped_fraction, 100 * st.dispatched_fraction);
   EXPECT_LT(e, 0.008);  // measured 0.00553 (25 search, 49 gather samples; hard: 0.0970)
   EXPECT_EQ(st.clamped_pixels, 0u);
   EXPECT_GT(st.skipped_fraction, 0.3);  // tiles far from the edge keep L.shadow
+  // ... and shadows.isg is not dispatched on most of them (shadows.isg.list); none skipped wrongly.
+  EXPECT_GE(st.dispatched_fraction, 1.0 - st.skipped_fraction - 1e-9);
+  EXPECT_LT(st.dispatched_fraction, 1.0 - 0.5 * st.skipped_fraction);
 }
 
 // Light at 18 degrees above the receivers, beside the edge (issue 19): the penumbra across the

@@ -327,7 +327,8 @@ class Shadows final : public Effect {
     if (r.sums.empty()) return {};
     if (r.sums.front().first == "tiles") {
       return {r.key + ": " + percent(r.get("skipped") / r.get("tiles")) +
-              "% of tiles skipped (no shadow boundary within reach), " +
+              "% of tiles skipped (no shadow boundary within reach; shadows.isg dispatched on " +
+              percent(r.get("dispatched") / r.get("tiles")) + "% of them), " +
               std::to_string(uint64_t(r.get("full_pixels"))) + " pixels searched and gathered, " +
               std::to_string(uint64_t(r.get("clamped_pixels"))) +
               " needed a radius over shadows.max_radius (clamped)"};

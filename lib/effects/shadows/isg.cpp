@@ -10,6 +10,7 @@
 #include "effects/view.h"
 #include "isg/shaders/shadows_isg.spv.h"
 #include "isg/shaders/shadows_isg_tiles.spv.h"
+#include "isg/shaders/shadows_isg_list.spv.h"
 #include "shadows_isg_io.h"
 
 namespace isg::effects {
@@ -359,6 +360,9 @@ ShadowsIsgPass::ShadowsIsgPass(gpu::Context& ctx)
                      gpu::Slot::buffer, gpu::Slot::buffer},
                     sizeof(shaders::ShadowsIsgTilesPush),
                     SHADOWS_ISG_TILE, SHADOWS_ISG_TILE),
+      list_kernel_(ctx, "shadows.isg.list", isg_spv_shadows_isg_list,
+                   {gpu::Slot::texels, gpu::Slot::buffer},
+                   sizeof(shaders::ShadowsIsgListPush), SHADOWS_ISG_LIST_LOCAL, 1),
       kernel_(ctx, "shadows.isg", isg_spv_shadows_isg,
               {gpu::Slot::texels, gpu::Slot::texels, gpu::Slot::buffer, gpu::Slot::buffer,
                gpu::Slot::texels, gpu::Slot::texels},
@@ -426,40 +430,66 @@ void ShadowsIsgPass::record(gpu::Sequence& seq, const ShadowSettings& s, const g
   set_split_eye(tp, s.eye);
   set_rotation(tp, m);
 
-  // The statistics are accumulated with atomics: start from zero.
+  const uint32_t tx = (w + SHADOWS_ISG_TILE - 1) / SHADOWS_ISG_TILE;
+  const uint32_t ty = (h + SHADOWS_ISG_TILE - 1) / SHADOWS_ISG_TILE, nt = tx * ty;
+  shaders::ShadowsIsgListPush lp{};
+  lp.width = w;
+  lp.height = h;
+  lp.flags = pc.flags & SHADOWS_ISG_TILE_SKIP;
+  lp.light_size = pc.light_size;
+  lp.max_radius = pc.max_radius;
+  lp.f_px = pc.f_px;
+  lp.light_x = pc.light_x;
+  lp.light_y = pc.light_y;
+  lp.light_z = pc.light_z;
+  lp.r20 = pc.r20;
+  lp.r21 = pc.r21;
+  lp.r22 = pc.r22;
+
+  // The statistics are accumulated with atomics: start from zero, and the dispatch of the listed
+  // tiles from none (x) by 1 by 1.
   // A tile starts from the whole frame's d_max (eq. 8), as the one-piece run would end with.
-  std::vector<uint32_t> zero(shadows_isg_tiles_words(w, h), 0u);
+  std::vector<uint32_t> init(shadows_isg_tiles_words(w, h), 0u);
   const float dm = float(s.d_max_floor);
-  std::memcpy(&zero[(zero.size() - SHADOWS_ISG_STATS) + SHADOWS_ISG_STAT_DMAX], &dm, sizeof dm);
-  tiles.upload(std::span<const uint32_t>(zero));
+  std::memcpy(&init[SHADOWS_ISG_AT_STATS(nt) + SHADOWS_ISG_STAT_DMAX], &dm, sizeof dm);
+  init[SHADOWS_ISG_AT_ARGS(nt) + 1] = 1u;
+  init[SHADOWS_ISG_AT_ARGS(nt) + 2] = 1u;
+  tiles.upload(std::span<const uint32_t>(init));
   seq.dispatch(tiles_kernel_,
                {gpu::Binding::floats(shadow), gpu::Binding::floats(occluder),
                 gpu::Binding::floats(geo), gpu::Binding::floats(fg), gpu::Binding::of(tiles),
                 gpu::Binding::of(pack)},
                tp, w, h, label + ".tiles");
-  seq.dispatch(kernel_,
-               {gpu::Binding::float4s(pack),
-                gpu::Binding::floats(occluder), gpu::Binding::of(tiles),
-                gpu::Binding::of(soft),
-                gpu::Binding::texels(samples(s.grid_search, s.grid_gather), VK_FORMAT_R32G32_SFLOAT),
-                gpu::Binding::floats(shadow)},
-               pc, w, h, label);
+  seq.dispatch(list_kernel_, {gpu::Binding::float4s(pack), gpu::Binding::of(tiles)}, lp, nt, 1,
+               label + ".list");
+  // Tiles left out of the list keep the hard shadow (the cheap path's result).
+  seq.copy(shadow, soft, label + ".copy");
+  seq.dispatch_indirect(kernel_,
+                        {gpu::Binding::float4s(pack), gpu::Binding::floats(occluder),
+                         gpu::Binding::of(tiles), gpu::Binding::of(soft),
+                         gpu::Binding::texels(samples(s.grid_search, s.grid_gather),
+                                              VK_FORMAT_R32G32_SFLOAT),
+                         gpu::Binding::floats(shadow)},
+                        pc, tiles, uint64_t(SHADOWS_ISG_AT_ARGS(nt)) * 4, label);
 }
 
 ShadowIsgStats ShadowsIsgPass::stats(const gpu::Buffer& tiles, uint32_t w, uint32_t h) {
-  const uint32_t words = shadows_isg_tiles_words(w, h), nt = (words - SHADOWS_ISG_STATS) / 3;
+  const uint32_t words = shadows_isg_tiles_words(w, h);
+  const uint32_t nt = ((w + SHADOWS_ISG_TILE - 1) / SHADOWS_ISG_TILE) *
+                      ((h + SHADOWS_ISG_TILE - 1) / SHADOWS_ISG_TILE);
   auto t = tiles.download_as<uint32_t>(words);
   ShadowIsgStats st;
   size_t k = 0;
   for (uint32_t j = 0; j < nt; ++j) k += t[2 * nt + j] != 0 ? 1 : 0;
   st.skipped_fraction = nt ? double(k) / nt : 0.0;
+  st.dispatched_fraction = nt ? double(t[SHADOWS_ISG_AT_ARGS(nt)]) / nt : 0.0;
   float d;
-  std::memcpy(&d, &t[3 * nt + SHADOWS_ISG_STAT_DMAX], sizeof d);
+  std::memcpy(&d, &t[SHADOWS_ISG_AT_STATS(nt) + SHADOWS_ISG_STAT_DMAX], sizeof d);
   st.d_max = d;
-  st.clamped_pixels = t[3 * nt + SHADOWS_ISG_STAT_CLAMPED];
-  st.full_pixels = t[3 * nt + SHADOWS_ISG_STAT_FULL];
-  st.searches = t[3 * nt + SHADOWS_ISG_STAT_SEARCHES];
-  st.gathers = t[3 * nt + SHADOWS_ISG_STAT_GATHERS];
+  st.clamped_pixels = t[SHADOWS_ISG_AT_STATS(nt) + SHADOWS_ISG_STAT_CLAMPED];
+  st.full_pixels = t[SHADOWS_ISG_AT_STATS(nt) + SHADOWS_ISG_STAT_FULL];
+  st.searches = t[SHADOWS_ISG_AT_STATS(nt) + SHADOWS_ISG_STAT_SEARCHES];
+  st.gathers = t[SHADOWS_ISG_AT_STATS(nt) + SHADOWS_ISG_STAT_GATHERS];
   return st;
 }
 

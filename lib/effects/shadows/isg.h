@@ -37,6 +37,9 @@ struct ShadowInputs {
 
 struct ShadowIsgStats {
   double skipped_fraction = 0;  // tiles that took the cheap path
+  // Tiles shadows.isg was dispatched on (shadows.isg.list): at least those that did not take the
+  // cheap path. GPU only (the reference decides per tile).
+  double dispatched_fraction = 0;
   uint64_t full_pixels = 0;     // pixels that ran the search and gather
   uint64_t searches = 0;        // parameter searches (one per 2x2 quad, more at edges)
   uint64_t gathers = 0;         // gathers (one per quad for wide penumbrae, more at edges)
@@ -66,7 +69,7 @@ class ShadowsIsgPass {
  private:
   const gpu::Buffer& samples(int grid_search, int grid_gather);
   gpu::Context& ctx_;
-  gpu::Kernel tiles_kernel_, kernel_;
+  gpu::Kernel tiles_kernel_, list_kernel_, kernel_;
   std::map<std::pair<int, int>, std::unique_ptr<gpu::Buffer>> samples_;
 };
 

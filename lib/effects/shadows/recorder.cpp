@@ -70,6 +70,7 @@ class ShadowsRecorder final : public Recorder {
       Report r{"shadows", inst.key, {}, {}};
       r.sum("tiles", 1.0);  // fractions are averaged over the tiles of a large plate
       r.sum("skipped", t.skipped_fraction);
+      r.sum("dispatched", t.dispatched_fraction);
       r.sum("full_pixels", double(t.full_pixels));
       r.sum("clamped_pixels", double(t.clamped_pixels));
       out.reports.push_back(r);

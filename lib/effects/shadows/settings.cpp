@@ -67,7 +67,7 @@ ShadowSettings shadow_settings(const io::Light& light, const io::Camera& cam, do
 
 uint32_t shadows_isg_tiles_words(uint32_t w, uint32_t h) {
   const uint32_t nt = ((w + kTile - 1) / kTile) * ((h + kTile - 1) / kTile);
-  return 3 * nt + SHADOWS_ISG_STATS;
+  return SHADOWS_ISG_TILES_WORDS(nt);
 }
 
 std::string shadowmap_unsupported(const io::Light* light, const std::string& name) {
