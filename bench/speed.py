@@ -66,17 +66,20 @@ def measure():
             key = f"{label}|{row}"
             t = parse_timings(texts[key])
             wall = re.search(r"^wall: (.*)$", t["text"], re.M)
-            # "N pixels, S samples (s a pixel)"; builds before the quad search printed "N pixels x s samples".
-            gathers = re.findall(r"^(\S+): (\d+) pixels(?:, \d+ samples \(([0-9.]+) a pixel\)| x (\d+) samples), "
-                                 r"([0-9.]+) M samples/s = ([0-9.]+)% of the roofline \(([0-9.]+) M taps/s",
-                                 t["text"], re.M)
-            gathers = [(g[0], g[1], g[2] or g[3], g[4], g[5], g[6]) for g in gathers]
+            # "N pixels, S samples (s a pixel; k taps a sample), X M samples/s, Y M taps/s = Z% of the
+            # roofline"; older builds printed no taps (one a sample) and, before the quad search,
+            # "N pixels x s samples".
+            gathers = re.findall(r"^(\S+): (\d+) pixels(?:, \d+ samples \(([0-9.]+) a pixel(?:; (\d+) taps? a sample)?\)"
+                                 r"| x (\d+) samples), ([0-9.]+) M samples/s(?:, [0-9.]+ M taps/s)? = ([0-9.]+)% of the "
+                                 r"roofline \(([0-9.]+) M taps/s", t["text"], re.M)
+            gathers = [(g[0], g[1], g[2] or g[4], g[5], g[6], g[7], g[3] or "1") for g in gathers]
             runs.append({"binary": label, "row": row, "sets": sets, "wall_s": best[key],
                          "ratio": best[key] / best["oiiotool"], "passes": t["passes"],
                          "gpu_ms": t["gpu_total_ms"], "stages": wall.group(1) if wall else "",
                          "gathers": [{"pass": g[0], "pixels": int(g[1]), "samples": float(g[2]),
                                       "msamples_s": float(g[3]), "share": float(g[4]),
-                                      "roofline_mtaps_s": float(g[5])} for g in gathers],
+                                      "roofline_mtaps_s": float(g[5]), "taps_per_sample": int(g[6])}
+                                     for g in gathers],
                          "device": t["device"]})
     return {"size": a.size, "repeat": a.repeat, "oiiotool_s": best["oiiotool"], "runs": runs,
             "load": os.getloadavg()[0]}
@@ -98,17 +101,23 @@ def page(r):
         L.append(f"- {x['binary']}, {x['row']}: " +
                  ", ".join(f"{k} {v:.1f} ms" for k, v in x["passes"].items()))
     L += ["", "## Gather passes against the roofline", "",
-          "Samples/s of each gather pass (the lattice samples it took in all, search and gather, "
-          "over the pass's GPU time; reflections.isg searches once per 2×2 quad) as a share of a plain cross-bilateral gather's "
-          "taps/s on the same device, measured in the same run (`isg run --timings`; the "
-          "yardstick is [the roofline page](roofline.md)). A sample of reflections.isg is two "
-          "16-byte texels (point taps); a sample of shadows.isg four 16-byte texels (bilinear).", "",
-          "| binary | run | pass | pixels | samples a pixel | M samples/s | roofline M taps/s | share |",
-          "|---|---|---|---|---|---|---|---|"]
+          "Taps/s of each gather pass as a share of a plain cross-bilateral gather's taps/s on the "
+          "same device, measured in the same run (`isg run --timings`; the yardstick is [the "
+          "roofline page](roofline.md)). A tap is the roofline's unit: one 16-byte texel read with "
+          "its own range weight. The samples are the lattice samples a pass took in all, search "
+          "and gather, over its GPU time (reflections.isg searches once per 2×2 quad and gathers "
+          "wide lobes once per 4×4 block); a sample of reflections.isg is one point tap (two "
+          "16-byte texels: colour and distance, position and normal), a sample of shadows.isg "
+          "four bilinear taps (binaries that printed no taps counted samples).", "",
+          "| binary | run | pass | pixels | samples a pixel | taps a sample | M samples/s | M taps/s | "
+          "roofline M taps/s | share |",
+          "|---|---|---|---|---|---|---|---|---|---|"]
     for x in r["runs"]:
         for g in x["gathers"]:
+            k = g.get("taps_per_sample", 1)
             L.append(f"| {x['binary']} | {x['row']} | {g['pass']} | {g['pixels']} | {g['samples']:.1f} | "
-                     f"{g['msamples_s']:.1f} | {g['roofline_mtaps_s']:.0f} | {g['share']:.0f}% |")
+                     f"{k} | {g['msamples_s']:.1f} | {g['msamples_s'] * k:.1f} | "
+                     f"{g['roofline_mtaps_s']:.0f} | {g['share']:.0f}% |")
     return "\n".join(L) + "\n"
 
 

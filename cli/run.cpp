@@ -82,10 +82,13 @@ void print_timings(isg::gpu::Context& ctx, const isg::run::LoadedFrame& f,
     double ms = 0;
     for (const auto& t : st.passes) ms += t.name == g.pass ? t.ms : 0.0;
     const double rate = ms > 0 ? double(g.samples) / (ms * 1e-3) : 0.0;
+    const double taps = rate * g.taps_per_sample;
     std::cout << g.pass << ": " << g.pixels << " pixels, " << g.samples << " samples ("
-              << (g.pixels ? double(g.samples) / double(g.pixels) : 0.0) << " a pixel), "
-              << rate * 1e-6 << " M samples/s = " << (roof > 0 ? 100.0 * rate / roof : 0.0)
-              << "% of the roofline (" << roof * 1e-6 << " M taps/s, isg roofline)\n";
+              << (g.pixels ? double(g.samples) / double(g.pixels) : 0.0) << " a pixel; "
+              << g.taps_per_sample << (g.taps_per_sample == 1 ? " tap" : " taps") << " a sample), "
+              << rate * 1e-6 << " M samples/s, " << taps * 1e-6 << " M taps/s = "
+              << (roof > 0 ? 100.0 * taps / roof : 0.0) << "% of the roofline (" << roof * 1e-6
+              << " M taps/s, isg roofline)\n";
   }
 }
 

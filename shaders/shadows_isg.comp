@@ -274,8 +274,11 @@ void main() {
   uint tiles_x = (pc.width + SHADOWS_ISG_TILE - 1u) / SHADOWS_ISG_TILE;
   uint tiles_y = (pc.height + SHADOWS_ISG_TILE - 1u) / SHADOWS_ISG_TILE;
   uint nt = tiles_x * tiles_y;
-  // Dispatched over the tiles shadows.isg.list kept: workgroup k is tile tiles[list + k].
-  uint tile = tiles[SHADOWS_ISG_AT_LIST(nt) + gl_WorkGroupID.x];
+  // Dispatched over the tiles shadows.isg.list kept: workgroup k (row-major in a grid tiles_x
+  // wide) is tile tiles[list + k]; the last row's end is past the list.
+  uint k_list = gl_WorkGroupID.y * gl_NumWorkGroups.x + gl_WorkGroupID.x;
+  if (k_list >= tiles[SHADOWS_ISG_AT_COUNT(nt)]) return;  // the whole workgroup
+  uint tile = tiles[SHADOWS_ISG_AT_LIST(nt) + k_list];
   uvec2 wg = uvec2(tile % tiles_x, tile / tiles_x);
   uvec2 p = wg * SHADOWS_ISG_TILE + gl_LocalInvocationID.xy;
   bool inside = p.x < pc.width && p.y < pc.height;

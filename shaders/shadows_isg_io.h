@@ -9,11 +9,13 @@ ISG_IO_BEGIN
 // with some light, bit 1: one with some shadow), [nt, 2nt) the tile's largest occluder distance
 // (float bits), [2nt, 3nt) 1 where shadows.isg took the cheap path, then the statistics at
 // 3nt + SHADOWS_ISG_STAT_*; then the tiles shadows.isg runs on (shadows.isg.list): a
-// VkDispatchIndirectCommand, then the tile indices.
+// VkDispatchIndirectCommand (tiles_x by the rows the list fills, so that no count exceeds the
+// device's workgroup limit on a large plate), their number, then the tile indices.
 #define SHADOWS_ISG_AT_STATS(nt) (3u * (nt))
 #define SHADOWS_ISG_AT_ARGS(nt) (3u * (nt) + SHADOWS_ISG_STATS)
-#define SHADOWS_ISG_AT_LIST(nt) (3u * (nt) + SHADOWS_ISG_STATS + 3u)
-#define SHADOWS_ISG_TILES_WORDS(nt) (4u * (nt) + SHADOWS_ISG_STATS + 3u)
+#define SHADOWS_ISG_AT_COUNT(nt) (3u * (nt) + SHADOWS_ISG_STATS + 3u)
+#define SHADOWS_ISG_AT_LIST(nt) (3u * (nt) + SHADOWS_ISG_STATS + 4u)
+#define SHADOWS_ISG_TILES_WORDS(nt) (4u * (nt) + SHADOWS_ISG_STATS + 4u)
 // Pass shadows.isg.list: one lane per tile.
 #define SHADOWS_ISG_LIST_LOCAL 64
 #define SHADOWS_ISG_FLAG_LIT 1u

@@ -50,7 +50,10 @@ void main() {
     listed = flags == (SHADOWS_ISG_FLAG_LIT | SHADOWS_ISG_FLAG_SHADOW);
   }
   if (listed) {
-    tiles[SHADOWS_ISG_AT_LIST(nt) + atomicAdd(tiles[SHADOWS_ISG_AT_ARGS(nt)], 1u)] = t;
+    uint k = atomicAdd(tiles[SHADOWS_ISG_AT_COUNT(nt)], 1u);
+    tiles[SHADOWS_ISG_AT_LIST(nt) + k] = t;
+    // The dispatch is tiles_x wide: a row of workgroups per tiles_x entries begun.
+    if (k % tiles_x == 0u) atomicAdd(tiles[SHADOWS_ISG_AT_ARGS(nt) + 1u], 1u);
   } else {
     tiles[2u * nt + t] = 1u;
   }

@@ -132,11 +132,14 @@ struct Report {
   void merge(const Report& o);
 };
 
-// The gather passes' load, for samples/s against the roofline (--timings): pixels that ran
-// the search and gather, and the lattice samples taken in all (search + gather).
+// The gather passes' load, for taps/s against the roofline (--timings): pixels that ran the
+// search and gather, the lattice samples taken in all (search + gather), and the taps a sample
+// is: texel reads each with its own range weight, the roofline's unit (a point sample 1, a
+// bilinear one 4).
 struct GatherLoad {
   std::string pass;  // the plan's Pass::label (its name in the timings)
   uint64_t pixels = 0, samples = 0;
+  uint32_t taps_per_sample = 1;
 };
 
 // Effects run in two stages: on the input AOVs (their composite terms add up, their reaches

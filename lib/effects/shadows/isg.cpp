@@ -447,12 +447,12 @@ void ShadowsIsgPass::record(gpu::Sequence& seq, const ShadowSettings& s, const g
   lp.r22 = pc.r22;
 
   // The statistics are accumulated with atomics: start from zero, and the dispatch of the listed
-  // tiles from none (x) by 1 by 1.
+  // tiles from tiles_x by no rows by 1.
   // A tile starts from the whole frame's d_max (eq. 8), as the one-piece run would end with.
   std::vector<uint32_t> init(shadows_isg_tiles_words(w, h), 0u);
   const float dm = float(s.d_max_floor);
   std::memcpy(&init[SHADOWS_ISG_AT_STATS(nt) + SHADOWS_ISG_STAT_DMAX], &dm, sizeof dm);
-  init[SHADOWS_ISG_AT_ARGS(nt) + 1] = 1u;
+  init[SHADOWS_ISG_AT_ARGS(nt)] = tx;
   init[SHADOWS_ISG_AT_ARGS(nt) + 2] = 1u;
   tiles.upload(std::span<const uint32_t>(init));
   seq.dispatch(tiles_kernel_,
@@ -482,7 +482,7 @@ ShadowIsgStats ShadowsIsgPass::stats(const gpu::Buffer& tiles, uint32_t w, uint3
   size_t k = 0;
   for (uint32_t j = 0; j < nt; ++j) k += t[2 * nt + j] != 0 ? 1 : 0;
   st.skipped_fraction = nt ? double(k) / nt : 0.0;
-  st.dispatched_fraction = nt ? double(t[SHADOWS_ISG_AT_ARGS(nt)]) / nt : 0.0;
+  st.dispatched_fraction = nt ? double(t[SHADOWS_ISG_AT_COUNT(nt)]) / nt : 0.0;
   float d;
   std::memcpy(&d, &t[SHADOWS_ISG_AT_STATS(nt) + SHADOWS_ISG_STAT_DMAX], sizeof d);
   st.d_max = d;
