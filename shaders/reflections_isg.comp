@@ -18,7 +18,7 @@ layout(binding = 2) uniform samplerBuffer rough;
 // Search lattice (grid_s² entries) then gather lattice (grid_g²): (x, y, |c|, |c|²) on the disk.
 layout(binding = 3) uniform samplerBuffer samples;
 layout(std430, binding = 4) writeonly buffer Glossy { float glossy[]; };
-layout(std430, binding = 5) writeonly buffer Tiles { float tiles[]; };
+layout(std430, binding = 5) buffer Tiles { uint tiles[]; };  // refl.tiles (reflections.list)
 layout(push_constant) uniform Push { ReflIsgPush pc; };
 
 shared uint tile_glossy;  // glossy pixels in the tile
@@ -257,7 +257,15 @@ vec3 refl_isg(uvec2 p, uint i) {
 }
 
 void main() {
-  uvec2 p = gl_GlobalInvocationID.xy;
+  uint tiles_x = (pc.width + REFL_TILE - 1u) / REFL_TILE;
+  uint nt = tiles_x * ((pc.height + REFL_TILE - 1u) / REFL_TILE);
+  // Dispatched over the tiles reflections.list kept: workgroup k (row-major in a grid tiles_x
+  // wide) is tile tiles[list + k]; the last row's end is past the list.
+  uint k_list = gl_WorkGroupID.y * gl_NumWorkGroups.x + gl_WorkGroupID.x;
+  if (k_list >= tiles[REFL_AT_COUNT(nt)]) return;  // the whole workgroup
+  uint tile = tiles[REFL_AT_LIST(nt) + k_list];
+  uvec2 wg = uvec2(tile % tiles_x, tile / tiles_x);
+  uvec2 p = wg * REFL_TILE + gl_LocalInvocationID.xy;
   bool inside = p.x < pc.width && p.y < pc.height;
   uint i = inside ? p.y * pc.width + p.x : 0u;
   if (gl_LocalInvocationIndex == 0u) { tile_glossy = 0u; tile_searches = 0u; tile_gathers = 0u; }
@@ -276,7 +284,7 @@ void main() {
   if (tile_glossy != 0u && pc.mode == REFL_MODE_ISG) {
     uint q = gl_LocalInvocationIndex % (REFL_QUADS * REFL_QUADS);
     uint part = gl_LocalInvocationIndex / (REFL_QUADS * REFL_QUADS);
-    uvec2 base = gl_WorkGroupID.xy * REFL_TILE + 2u * uvec2(q % REFL_QUADS, q / REFL_QUADS);
+    uvec2 base = wg * REFL_TILE + 2u * uvec2(q % REFL_QUADS, q / REFL_QUADS);
     uint r = REFL_NO_REP;
     uvec2 rp = base;
     for (uint k = 0u; k < 4u; ++k) {
@@ -336,9 +344,8 @@ void main() {
   // many pixels were glossy, how many searches and how many gathers ran (the statistics behind
   // --timings; the gathers in the second half of refl.tiles).
   if (gl_LocalInvocationIndex == 0u) {
-    uint t = gl_WorkGroupID.y * gl_NumWorkGroups.x + gl_WorkGroupID.x;
-    tiles[t] = tile_glossy == 0u ? 1.0 : -float(tile_glossy + REFL_STATS_SEARCHES * tile_searches);
-    tiles[gl_NumWorkGroups.x * gl_NumWorkGroups.y + t] = float(tile_gathers);
+    tiles[tile] = floatBitsToUint(tile_glossy == 0u ? 1.0 : -float(tile_glossy + REFL_STATS_SEARCHES * tile_searches));
+    tiles[nt + tile] = floatBitsToUint(float(tile_gathers));
   }
   if (!inside) return;
   uint n = pc.width * pc.height;

@@ -31,9 +31,17 @@ ISG_IO_BEGIN
 #define REFL_REUSE_RADIUS 32.0
 #define REFL_REUSE_RATIO 1.25
 #define REFL_REUSE_COVER 0.5
-// refl.tiles holds −(glossy pixels + REFL_STATS_SEARCHES · searches) for a tile that gathered
-// (1 for a cheap tile), then the number of gathers each tile ran.
+// refl.tiles (uint words) holds −(glossy pixels + REFL_STATS_SEARCHES · searches) for a tile that
+// gathered (1 for a cheap tile), then the number of gathers each tile ran (both float bits);
+// then the tiles reflections.isg runs on (reflections.list): a VkDispatchIndirectCommand
+// (tiles_x by the rows the list fills), their number and the tile indices.
 #define REFL_STATS_SEARCHES 1024u
+#define REFL_AT_ARGS(nt) (2u * (nt))
+#define REFL_AT_COUNT(nt) (2u * (nt) + 3u)
+#define REFL_AT_LIST(nt) (2u * (nt) + 4u)
+#define REFL_TILES_WORDS(nt) (3u * (nt) + 4u)
+// Pass reflections.list: one lane per tile.
+#define REFL_LIST_LOCAL 64
 struct ReflIsgPush {
   uint width;
   uint height;

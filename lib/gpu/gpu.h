@@ -229,8 +229,8 @@ class Sequence {
       vkCmdDispatchIndirect(cmd, args.handle(), offset);
     });
   }
-  // Copies the whole of `src` into `dst` (same size), timed as `label`.
-  void copy(const Buffer& src, const Buffer& dst, const std::string& label);
+  // Copies the first `bytes` of `src` into `dst`, timed as `label`.
+  void copy(const Buffer& src, const Buffer& dst, VkDeviceSize bytes, const std::string& label);
   // Submits, waits, and returns the GPU time of each dispatch (empty names merged by kernel).
   std::vector<PassTime> submit();
 

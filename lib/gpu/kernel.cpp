@@ -179,10 +179,14 @@ void Sequence::close_pass(uint32_t q) {
   }
 }
 
-void Sequence::copy(const Buffer& src, const Buffer& dst, const std::string& label) {
-  if (src.size() != dst.size()) throw GpuError("Sequence::copy: " + label + ": sizes differ");
+void Sequence::copy(const Buffer& src, const Buffer& dst, VkDeviceSize bytes,
+                    const std::string& label) {
+  if (bytes > src.size() || bytes > dst.size()) {
+    throw GpuError("Sequence::copy: " + label + ": " + std::to_string(bytes) +
+                   " bytes exceed a buffer");
+  }
   const uint32_t q = open_pass(label);
-  VkBufferCopy c{0, 0, src.size()};
+  VkBufferCopy c{0, 0, bytes};
   vkCmdCopyBuffer(cmd_, src.handle(), dst.handle(), 1, &c);
   close_pass(q);
 }

@@ -8,6 +8,7 @@
 #include "effects/sampling.h"
 #include "effects/view.h"
 #include "isg/shaders/reflections_isg.spv.h"
+#include "isg/shaders/reflections_list.spv.h"
 #include "isg/shaders/reflections_pack.spv.h"
 #include "reflections_isg_io.h"
 
@@ -336,6 +337,9 @@ ReflectionsPass::ReflectionsPass(gpu::Context& ctx, const ReflSettings& s)
              gpu::Slot::texels, gpu::Slot::texels, gpu::Slot::buffer, gpu::Slot::buffer},
             sizeof(shaders::ReflIsgPush),
             REFL_PACK_LOCAL, 1),
+      list_(ctx, "reflections.list", isg_spv_reflections_list,
+            {gpu::Slot::texels, gpu::Slot::texels, gpu::Slot::buffer}, sizeof(shaders::ReflIsgPush),
+            REFL_LIST_LOCAL, 1),
       kernel_(ctx, "reflections.isg", isg_spv_reflections_isg,
               {gpu::Slot::texels, gpu::Slot::texels, gpu::Slot::texels, gpu::Slot::texels,
                gpu::Slot::buffer, gpu::Slot::buffer},
@@ -399,13 +403,23 @@ void ReflectionsPass::record_gather(gpu::Sequence& seq, const ReflBuffers& b, ui
   const auto pc = push(w, h, b.has_position, has_rough);
   // Without a roughness channel the slot is bound to refl.dist and never read.
   const gpu::Buffer& rb = has_rough ? *b.rough : b.dist;
-  seq.dispatch(kernel_,
-               {gpu::Binding::texels(b.pack_geo, VK_FORMAT_R32G32B32A32_UINT),
-                gpu::Binding::float4s(b.pack_color),
-                gpu::Binding::floats(rb),
-                gpu::Binding::float4s(*samples_),
-                gpu::Binding::of(b.glossy), gpu::Binding::of(b.tiles)},
-               pc, w, h, label);
+  // reflections.list: the tiles with a glossy pixel, dispatched tiles_x wide by the rows the
+  // list fills (the statistics of the tiles left out it writes itself); the others keep refl.
+  const uint32_t tx = (w + REFL_TILE - 1) / REFL_TILE, nt = refl_tiles(w, h);
+  std::vector<uint32_t> init(refl_tiles_words(w, h), 0u);
+  init[REFL_AT_ARGS(nt)] = tx;
+  init[REFL_AT_ARGS(nt) + 2] = 1u;
+  b.tiles.upload(std::span<const uint32_t>(init));
+  seq.dispatch(list_, {gpu::Binding::float4s(b.pack_color), gpu::Binding::floats(rb),
+                       gpu::Binding::of(b.tiles)},
+               pc, nt, 1, label + ".list");
+  seq.copy(b.refl, b.glossy, 3 * uint64_t(w) * h * sizeof(float), label + ".copy");
+  seq.dispatch_indirect(kernel_,
+                        {gpu::Binding::texels(b.pack_geo, VK_FORMAT_R32G32B32A32_UINT),
+                         gpu::Binding::float4s(b.pack_color), gpu::Binding::floats(rb),
+                         gpu::Binding::float4s(*samples_), gpu::Binding::of(b.glossy),
+                         gpu::Binding::of(b.tiles)},
+                        pc, b.tiles, uint64_t(REFL_AT_ARGS(nt)) * 4, label);
 }
 
 ReflTileStats ReflectionsPass::stats(const gpu::Buffer& tiles, uint32_t w, uint32_t h) {

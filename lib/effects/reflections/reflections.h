@@ -37,7 +37,8 @@ struct ReflBuffers {
   const gpu::Buffer &refl, &dist, &weight, &normal, &geo;
   bool has_position;
   const gpu::Buffer* rough;
-  const gpu::Buffer &fg, &pack_geo, &pack_color, &glossy, &tiles;
+  const gpu::Buffer &fg, &pack_geo, &pack_color, &glossy;
+  gpu::Buffer& tiles;  // set up by the pass (its list)
 };
 
 struct ReflTileStats {
@@ -65,7 +66,7 @@ class ReflectionsPass {
  private:
   shaders::ReflIsgPush push(uint32_t w, uint32_t h, bool has_position, bool has_rough) const;
   ReflSettings s_;
-  gpu::Kernel pack_, kernel_;
+  gpu::Kernel pack_, list_, kernel_;
   std::unique_ptr<gpu::Buffer> samples_;  // the lattice table (sample_table)
 };
 

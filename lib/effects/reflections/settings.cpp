@@ -37,4 +37,6 @@ uint32_t refl_tiles(uint32_t w, uint32_t h) {
   return ((w + REFL_TILE - 1) / REFL_TILE) * ((h + REFL_TILE - 1) / REFL_TILE);
 }
 
+uint32_t refl_tiles_words(uint32_t w, uint32_t h) { return REFL_TILES_WORDS(refl_tiles(w, h)); }
+
 }  // namespace isg::effects

@@ -43,5 +43,7 @@ double ggx_cone_tan(double alpha, double energy);
 
 // 16x16 tiles (REFL_TILE) of a w x h image (refl.tiles holds two words per tile).
 uint32_t refl_tiles(uint32_t w, uint32_t h);
+// The words of refl.tiles (shaders/reflections_isg_io.h).
+uint32_t refl_tiles_words(uint32_t w, uint32_t h);
 
 }  // namespace isg::effects

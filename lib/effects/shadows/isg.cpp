@@ -463,7 +463,7 @@ void ShadowsIsgPass::record(gpu::Sequence& seq, const ShadowSettings& s, const g
   seq.dispatch(list_kernel_, {gpu::Binding::float4s(pack), gpu::Binding::of(tiles)}, lp, nt, 1,
                label + ".list");
   // Tiles left out of the list keep the hard shadow (the cheap path's result).
-  seq.copy(shadow, soft, label + ".copy");
+  seq.copy(shadow, soft, uint64_t(w) * h * sizeof(float), label + ".copy");
   seq.dispatch_indirect(kernel_,
                         {gpu::Binding::float4s(pack), gpu::Binding::floats(occluder),
                          gpu::Binding::of(tiles), gpu::Binding::of(soft),

@@ -1,0 +1,37 @@
+#version 450
+// Pass reflections.list: the tiles reflections.isg runs on, those with a glossy pixel (issue 18:
+// on lavapipe a workgroup of reflections.isg costs about as much to start and classify itself as
+// a cheap tile's work). One lane per tile; a tile left out is marked cheap as reflections.isg would
+// mark it and keeps refl, copied into refl.glossy before. No output depends on the list's order.
+#extension GL_GOOGLE_include_directive : require
+#include "reflections_isg_io.h"
+layout(local_size_x = REFL_LIST_LOCAL) in;
+layout(binding = 0) uniform samplerBuffer pack_color;  // refl, dist (reflections.pack)
+layout(binding = 1) uniform samplerBuffer rough;
+layout(std430, binding = 2) buffer Tiles { uint tiles[]; };
+layout(push_constant) uniform Push { ReflIsgPush pc; };
+
+void main() {
+  uint tiles_x = (pc.width + REFL_TILE - 1u) / REFL_TILE;
+  uint nt = tiles_x * ((pc.height + REFL_TILE - 1u) / REFL_TILE), t = gl_GlobalInvocationID.x;
+  if (t >= nt) return;
+  ivec2 t0 = ivec2(t % tiles_x, t / tiles_x) * REFL_TILE;
+  ivec2 end = min(t0 + REFL_TILE, ivec2(pc.width, pc.height));
+  bool glossy = false;
+  // As reflections.isg's is_glossy: something to gather, rougher than a mirror.
+  for (int y = t0.y; y < end.y && !glossy; ++y)
+    for (int x = t0.x; x < end.x; ++x) {
+      int i = y * int(pc.width) + x;
+      float r = (pc.flags & REFL_HAS_ROUGHNESS) != 0u ? texelFetch(rough, i).r : pc.roughness;
+      if (texelFetch(pack_color, i).w >= 0.0 && r > REFL_MIN_ROUGHNESS) glossy = true;
+    }
+  if (glossy) {
+    uint k = atomicAdd(tiles[REFL_AT_COUNT(nt)], 1u);
+    tiles[REFL_AT_LIST(nt) + k] = t;
+    // The dispatch is tiles_x wide: a row of workgroups per tiles_x entries begun.
+    if (k % tiles_x == 0u) atomicAdd(tiles[REFL_AT_ARGS(nt) + 1u], 1u);
+  } else {
+    tiles[t] = floatBitsToUint(1.0);
+    tiles[nt + t] = floatBitsToUint(0.0);
+  }
+}
