@@ -53,8 +53,8 @@ float range_fn(uvec4 g, vec3 P0, vec3 N0) {
   return exp(-(pc.a * l2 + pc.b * nn * nn) * pc.inv_sigma);
 }
 
-mat2 pixel_rotation(uvec2 p) {
-  float ang = isg_pixel_angle(p + uvec2(pc.origin & 0xffffu, pc.origin >> 16));
+mat2 pixel_rotation(uvec2 p) {  // the same for the REFL_ROTATION_BLOCK² pixels of a block
+  float ang = isg_pixel_angle((p + uvec2(pc.origin & 0xffffu, pc.origin >> 16)) / REFL_ROTATION_BLOCK);
   return mat2(cos(ang), sin(ang), -sin(ang), cos(ang));
 }
 

@@ -14,6 +14,12 @@ ISG_IO_BEGIN
 #define REFL_MODE_BLUR 1u  // the naive alternative: a constant-width disk blur of refl
 #define REFL_HAS_POSITION 32u   // P is given (else from depth and the camera)
 #define REFL_HAS_ROUGHNESS 64u  // the roughness channel (else the preset's everywhere)
+// The sample lattice's rotation (the pixel hash's angle) is shared by the pixels of each
+// REFL_ROTATION_BLOCK² block (issue 18): neighbouring lanes then read neighbouring texels
+// (lavapipe's gathers are scalar loads, one cache line each where rotations differ). Against a
+// rotation per pixel: shared gloss refl RMSE 0.00232 -> 0.00229, reflections.isg about 5 %
+// faster at 1080p; without rotation 0.00238.
+#define REFL_ROTATION_BLOCK 4u
 // Pixels at most this rough are mirrors: refl.glossy = refl.
 #define REFL_MIN_ROUGHNESS 1e-4
 // Largest reflected-cone angle θ_max (radians): GGX's tail makes 2·θ_h reach 180° at alpha 1.

@@ -77,7 +77,7 @@ struct Ctx {
     return std::exp(-(s.a * l * l + s.b * nn * nn) / s.sigma);
   }
   double angle(int x, int y) const {
-    return pixel_angle(uint32_t(x), uint32_t(y));
+    return pixel_angle(uint32_t(x) / REFL_ROTATION_BLOCK, uint32_t(y) / REFL_ROTATION_BLOCK);
   }
 
   V3 blur(int x, int y, size_t i) const {
