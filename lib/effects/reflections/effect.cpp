@@ -30,7 +30,7 @@ class Reflections final : public Effect {
        "constant-width disk blur of refl: the naive alternative, no contact hardening)"),
       params::def(refl_keys::search_samples, "25", 1, 1024,
        "parameter-search samples per pixel, rounded to a square grid through the concentric "
-       "disk map (rotated per pixel)"),
+       "disk map (rotated per 4x4 block of pixels)"),
       params::def(refl_keys::gather_samples, "49", 1, 1024,
        "gather samples per pixel, rounded to a square grid (as search_samples)"),
       params::def(refl_keys::roughness, "0.25", 0, 1,

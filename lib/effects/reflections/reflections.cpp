@@ -104,7 +104,8 @@ struct Ctx {
     V3 P0, N0;
     double e, cos_i, alpha, theta_max, R_full, R_p, maj, minor, ca, sa;
     V2 d_maj, d_min;
-    // Lattice point u (unit disk) scaled by R, rotated per pixel, on the footprint's axes.
+    // Lattice point u (unit disk) scaled by R, rotated per REFL_ROTATION_BLOCK² block, on the
+    // footprint's axes.
     V2 at(V2 c, double R, V2* u = nullptr) const {
       V2 r = {ca * c[0] - sa * c[1], sa * c[0] + ca * c[1]};
       if (u) *u = r;

@@ -13,7 +13,7 @@ namespace isg::effects {
 
 struct ReflSettings {
   std::string method = "isg";  // "isg" or "blur"
-  int grid_search = 5;         // search samples = grid_search², concentric disk, rotated per pixel
+  int grid_search = 5;         // search samples = grid_search², concentric disk, rotated per 4x4 block
   int grid_gather = 7;         // gather samples = grid_gather²
   double roughness = 0.25;     // where the roughness channel is absent (or overridden)
   bool roughness_override = false;
