@@ -280,8 +280,8 @@ void main() {
   // The quads' searches, each split over four lanes: lane q + part·QUADS² takes samples part,
   // part + 4, ... of quad q's lattice (whole SIMD rows of llvmpipe and whole warps on one part);
   // the partial sums are added in a fixed order. Then the blocks' wide gathers, over sixteen
-  // lanes each. The condition is uniform.
-  if (tile_glossy != 0u && pc.mode == REFL_MODE_ISG) {
+  // lanes each. The condition is uniform. (Every tile here holds a glossy pixel: reflections.list.)
+  if (pc.mode == REFL_MODE_ISG) {
     uint q = gl_LocalInvocationIndex % (REFL_QUADS * REFL_QUADS);
     uint part = gl_LocalInvocationIndex / (REFL_QUADS * REFL_QUADS);
     uvec2 base = wg * REFL_TILE + 2u * uvec2(q % REFL_QUADS, q / REFL_QUADS);
@@ -338,13 +338,13 @@ void main() {
   }
   barrier();
   vec3 c = inside ? texelFetch(pack_color, int(i)).rgb : vec3(0.0);
-  if (tile_glossy != 0u && g) c = pc.mode == REFL_MODE_BLUR ? refl_blur(p, i) : refl_isg(p, i);
+  if (g) c = pc.mode == REFL_MODE_BLUR ? refl_blur(p, i) : refl_isg(p, i);
   barrier();
-  // Tiles with nothing glossy take the cheap path: refl.glossy = refl. The others record how
-  // many pixels were glossy, how many searches and how many gathers ran (the statistics behind
-  // --timings; the gathers in the second half of refl.tiles).
+  // The tile records how many pixels were glossy, how many searches and how many gathers ran
+  // (the statistics behind --timings; the gathers in the second half of refl.tiles); the tiles
+  // with nothing glossy were marked cheap by reflections.list.
   if (gl_LocalInvocationIndex == 0u) {
-    tiles[tile] = floatBitsToUint(tile_glossy == 0u ? 1.0 : -float(tile_glossy + REFL_STATS_SEARCHES * tile_searches));
+    tiles[tile] = floatBitsToUint(-float(tile_glossy + REFL_STATS_SEARCHES * tile_searches));
     tiles[nt + tile] = floatBitsToUint(float(tile_gathers));
   }
   if (!inside) return;

@@ -198,7 +198,6 @@ void Sequence::record(const Kernel& k, const std::vector<Binding>& bindings, con
                    std::to_string(bindings.size()));
   }
   if (labels_.size() >= max_passes_) throw GpuError("Sequence: too many dispatches");
-  if (!recording_) begin();
 
   VkDescriptorSetAllocateInfo ai{VK_STRUCTURE_TYPE_DESCRIPTOR_SET_ALLOCATE_INFO};
   ai.descriptorPool = pool_;

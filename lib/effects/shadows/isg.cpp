@@ -430,8 +430,7 @@ void ShadowsIsgPass::record(gpu::Sequence& seq, const ShadowSettings& s, const g
   set_split_eye(tp, s.eye);
   set_rotation(tp, m);
 
-  const uint32_t tx = (w + SHADOWS_ISG_TILE - 1) / SHADOWS_ISG_TILE;
-  const uint32_t ty = (h + SHADOWS_ISG_TILE - 1) / SHADOWS_ISG_TILE, nt = tx * ty;
+  const uint32_t tx = (w + SHADOWS_ISG_TILE - 1) / SHADOWS_ISG_TILE, nt = shadows_isg_tiles(w, h);
   shaders::ShadowsIsgListPush lp{};
   lp.width = w;
   lp.height = h;
@@ -474,9 +473,7 @@ void ShadowsIsgPass::record(gpu::Sequence& seq, const ShadowSettings& s, const g
 }
 
 ShadowIsgStats ShadowsIsgPass::stats(const gpu::Buffer& tiles, uint32_t w, uint32_t h) {
-  const uint32_t words = shadows_isg_tiles_words(w, h);
-  const uint32_t nt = ((w + SHADOWS_ISG_TILE - 1) / SHADOWS_ISG_TILE) *
-                      ((h + SHADOWS_ISG_TILE - 1) / SHADOWS_ISG_TILE);
+  const uint32_t words = shadows_isg_tiles_words(w, h), nt = shadows_isg_tiles(w, h);
   auto t = tiles.download_as<uint32_t>(words);
   ShadowIsgStats st;
   size_t k = 0;

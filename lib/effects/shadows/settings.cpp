@@ -65,9 +65,12 @@ ShadowSettings shadow_settings(const io::Light& light, const io::Camera& cam, do
   return s;
 }
 
+uint32_t shadows_isg_tiles(uint32_t w, uint32_t h) {
+  return ((w + kTile - 1) / kTile) * ((h + kTile - 1) / kTile);
+}
+
 uint32_t shadows_isg_tiles_words(uint32_t w, uint32_t h) {
-  const uint32_t nt = ((w + kTile - 1) / kTile) * ((h + kTile - 1) / kTile);
-  return SHADOWS_ISG_TILES_WORDS(nt);
+  return SHADOWS_ISG_TILES_WORDS(shadows_isg_tiles(w, h));
 }
 
 std::string shadowmap_unsupported(const io::Light* light, const std::string& name) {

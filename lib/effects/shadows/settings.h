@@ -53,7 +53,9 @@ std::string shadows_isg_unsupported(const io::Light* light);
 ShadowSettings shadow_settings(const io::Light& light, const io::Camera& cam, double scene_radius,
                                const params::Params& p, int height);
 
-// uint32 words of the tiles buffer (flags, cheap-path marks, statistics).
+// 16x16 tiles (SHADOWS_ISG_TILE) of a w x h image, and the uint32 words of the tiles buffer
+// (flags, cheap-path marks, statistics, the list of shadows.isg.list).
+uint32_t shadows_isg_tiles(uint32_t w, uint32_t h);
 uint32_t shadows_isg_tiles_words(uint32_t w, uint32_t h);
 
 struct ShadowmapSettings {
