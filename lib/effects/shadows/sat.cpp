@@ -46,7 +46,7 @@ SatPass::SatPass(gpu::Context& ctx)
     : quantize_(ctx, "sat.quantize", isg_spv_sat_quantize, {gpu::Slot::buffer, gpu::Slot::buffer},
                 sizeof(shaders::SatPush), SAT_LOCAL, 1),
       scan_(ctx, "sat.scan", isg_spv_sat_scan, {gpu::Slot::buffer}, sizeof(shaders::SatPush),
-            SAT_LOCAL, 1) {}
+            SAT_LINES, 1) {}
 
 void SatPass::record(gpu::Sequence& seq, const gpu::Buffer& map, const gpu::Buffer& sat,
                      uint32_t w, uint32_t h, const SatFixedPoint& fp, const std::string& label) {
@@ -54,18 +54,18 @@ void SatPass::record(gpu::Sequence& seq, const gpu::Buffer& map, const gpu::Buff
                       float(std::min(fp.far_z, 1e30)), float(fp.shift)};
   seq.dispatch(quantize_, {gpu::Binding::of(map), gpu::Binding::of(sat)}, pc, w, h,
                label + ".quantize");
-  seq.dispatch(scan_, {gpu::Binding::of(sat)}, pc, SAT_LOCAL * h, 1, label + ".rows");
+  seq.dispatch(scan_, {gpu::Binding::of(sat)}, pc, h, 1, label + ".rows");  // a lane a line
   pc.axis = 1u;
-  seq.dispatch(scan_, {gpu::Binding::of(sat)}, pc, SAT_LOCAL * w, 1, label + ".columns");
+  seq.dispatch(scan_, {gpu::Binding::of(sat)}, pc, w, 1, label + ".columns");
 }
 
 void SatPass::record_scan(gpu::Sequence& seq, const gpu::Buffer& sat, uint32_t w, uint32_t h,
                           uint32_t layers, const std::string& label) {
   shaders::SatPush pc{w, h, 0u, 1u, 0.0f, 1.0f, 1e30f, 0.0f};
-  // One workgroup a line; the second dispatch dimension walks the stacked tables.
-  seq.dispatch(scan_, {gpu::Binding::of(sat)}, pc, SAT_LOCAL * h, layers, label + ".rows");
+  // One invocation a line; the second dispatch dimension walks the stacked tables.
+  seq.dispatch(scan_, {gpu::Binding::of(sat)}, pc, h, layers, label + ".rows");
   pc.axis = 1u;
-  seq.dispatch(scan_, {gpu::Binding::of(sat)}, pc, SAT_LOCAL * w, layers, label + ".columns");
+  seq.dispatch(scan_, {gpu::Binding::of(sat)}, pc, w, layers, label + ".columns");
 }
 
 }  // namespace isg::effects
