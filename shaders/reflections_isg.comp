@@ -203,7 +203,7 @@ vec3 gather(Lobe L, uint i, Foot F) {
 // The search at half resolution and the wide gathers at quarter resolution (issue 18): one
 // search per 2×2 quad of the tile, from its first glossy pixel (the quad's representative), and
 // one gather per 4×4 block, the representative's of its top-left quad, where its footprint is
-// wide (R_s ≥ REFL_REUSE_RADIUS = 32 pixels: eight block spacings).
+// wide (R_s ≥ REFL_REUSE_RADIUS = 64 pixels: sixteen block spacings).
 #define REFL_QUADS (REFL_TILE / 2u)
 #define REFL_BLOCKS (REFL_TILE / 4u)
 #define REFL_NO_REP 0xffffffffu
