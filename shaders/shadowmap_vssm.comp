@@ -26,11 +26,23 @@ layout(std430, binding = 10) buffer Stats { uint stats[]; };
 layout(push_constant) uniform Push { ShadowmapPush pc; };
 #include "shadowmap_common.h"
 
-#define HSM_LV v.hsm
-#define HSM_MAP(i) texelFetch(smap, int(i)).r
-#define HSM_TEXEL(i) texelFetch(hsm, int(i)).xy
-#define HSM_MAP_W p.map_w
-#include "shadowmap_hsm.h"
+// Min and max depth over the texels a rectangle [lo, hi) touches: the HSM level whose texels
+// are at least as large as it, where it spans at most 2x2 of them.
+vec2 hsm_range(vec2 flo, vec2 fhi) {
+  ivec2 lo = ivec2(floor(flo)), hi = max(ivec2(ceil(fhi)), lo + 1);
+  int size = max(hi.x - lo.x, hi.y - lo.y);
+  uint L = 0u;
+  while ((1 << L) < size && L + 1u < v.levels) ++L;
+  ivec2 a = lo >> L, b = (hi - 1) >> L;
+  vec2 r = vec2(1e30, -1e30);
+  for (int y = a.y; y <= b.y; ++y)
+    for (int x = a.x; x <= b.x; ++x) {
+      vec2 c = L == 0u ? vec2(min(texelFetch(smap, int(uint(y) * p.map_w + uint(x))).r, v.far_z))
+                       : texelFetch(hsm, int(v.level_off[L] + uint(y) * v.level_w[L] + uint(x))).xy;
+      r = vec2(min(r.x, c.x), max(r.y, c.y));
+    }
+  return r;
+}
 
 uvec2 sub64(uvec2 a, uvec2 b) {
   uint borrow;
@@ -154,7 +166,7 @@ void main() {
   if (back) { atomicAdd(stats[SHADOWMAP_STAT_SKIPPED], 1u); soft[i] = texelFetch(hard, int(i)).r; return; }
   // A receiver beyond the map's farthest surface (far_z, where the background stands in the
   // SATs and the HSM) is shaded as lying on it: else the background would block it (vssm.cpp).
-  q.z = min(q.z, v.hsm.far_z);
+  q.z = min(q.z, v.far_z);
   float tw = 2.0 * q.z * p.tan_y / float(p.map_h);
   float k = p.light_radius * float(p.map_h) / (2.0 * p.tan_y);
   float rs = min(k * max(1.0 / p.min_depth - 1.0 / q.z, 0.0), p.max_radius);

@@ -4,9 +4,9 @@
 #include <algorithm>
 #include <cmath>
 
-#include "effects/shadows/hsm.h"
 #include "effects/shadows/method.h"
 #include "effects/shadows/sat.h"
+#include "isg/shaders/shadowmap_hsm.spv.h"
 #include "isg/shaders/shadowmap_vssm.spv.h"
 #include "shadowmap_io.h"
 #include "shadowmap_vssm_io.h"
@@ -21,7 +21,9 @@ using detail::V3;
 // What both sides derive from the map and the settings.
 struct VssmSetup {
   double far_z = 0, z0 = 0;
-  HsmLayout hsm;
+  std::vector<int> level_w, level_h;
+  std::vector<size_t> level_off;
+  size_t hsm_texels = 0;
 };
 
 VssmSetup vssm_setup(const ShadowmapData& map) {
@@ -33,7 +35,16 @@ VssmSetup vssm_setup(const ShadowmapData& map) {
   v.far_z = double(float(far));
   for (float z : map.z) sum += std::min(double(z), v.far_z);
   v.z0 = double(float(map.z.empty() ? 0.0 : sum / double(map.z.size())));
-  v.hsm = hsm_layout(map.width, map.height, v.far_z);
+  int w = map.width, h = map.height;
+  for (;;) {
+    v.level_off.push_back(v.hsm_texels);
+    v.level_w.push_back(w);
+    v.level_h.push_back(h);
+    v.hsm_texels += size_t(w) * size_t(h);
+    if ((w == 1 && h == 1) || int(v.level_w.size()) == VSSM_MAX_LEVELS) break;
+    w = (w + 1) / 2;
+    h = (h + 1) / 2;
+  }
   return v;
 }
 
@@ -46,16 +57,31 @@ struct VssmRef {
   const Geom& G;
   const ShadowmapSettings& s;
   VssmSetup v;
-  HsmRef hsm;
+  std::vector<std::array<float, 2>> hsm;
   std::vector<double> s1, s2;  // (w+1) x (h+1) prefix sums of z and (z − z0)²
   int W, Hh, grid;
   double flat, contact;
 
   VssmRef(const Geom& g, const ShadowmapSettings& st)
-      : G(g), s(st), v(vssm_setup(g.map)), hsm(g.map, v.hsm), W(g.map.width), Hh(g.map.height),
-        grid(leaf_grid(st)) {
+      : G(g), s(st), v(vssm_setup(g.map)), W(g.map.width), Hh(g.map.height), grid(leaf_grid(st)) {
     flat = s.vssm_flat * s.scene_radius;
     contact = s.vssm_contact * s.scene_radius;
+    hsm.resize(v.hsm_texels);
+    for (size_t i = 0; i < G.map.z.size(); ++i) {
+      float z = std::min(G.map.z[i], float(v.far_z));
+      hsm[i] = {z, z};
+    }
+    for (size_t L = 1; L < v.level_w.size(); ++L)
+      for (int y = 0; y < v.level_h[L]; ++y)
+        for (int x = 0; x < v.level_w[L]; ++x) {
+          std::array<float, 2> r{1e30f, -1e30f};
+          for (int yy = 2 * y; yy < std::min(2 * y + 2, v.level_h[L - 1]); ++yy)
+            for (int xx = 2 * x; xx < std::min(2 * x + 2, v.level_w[L - 1]); ++xx) {
+              const auto& c = hsm[v.level_off[L - 1] + size_t(yy) * v.level_w[L - 1] + xx];
+              r = {std::min(r[0], c[0]), std::max(r[1], c[1])};
+            }
+          hsm[v.level_off[L] + size_t(y) * v.level_w[L] + x] = r;
+        }
     s1.assign(size_t(W + 1) * (Hh + 1), 0.0);
     s2 = s1;
     for (int y = 0; y < Hh; ++y) {
@@ -71,7 +97,20 @@ struct VssmRef {
   }
 
   using F2 = std::array<double, 2>;
-  std::array<double, 2> hsm_range(F2 flo, F2 fhi) const { return hsm.range(flo, fhi); }
+  std::array<double, 2> hsm_range(F2 flo, F2 fhi) const {
+    const int lx = int(std::floor(flo[0])), ly = int(std::floor(flo[1]));
+    const int hx = std::max(int(std::ceil(fhi[0])), lx + 1), hy = std::max(int(std::ceil(fhi[1])), ly + 1);
+    const int size = std::max(hx - lx, hy - ly);
+    size_t L = 0;
+    while ((1 << L) < size && L + 1 < v.level_w.size()) ++L;
+    std::array<double, 2> r{1e30, -1e30};
+    for (int y = ly >> L; y <= (hy - 1) >> L; ++y)
+      for (int x = lx >> L; x <= (hx - 1) >> L; ++x) {
+        const auto& c = hsm[v.level_off[L] + size_t(y) * v.level_w[L] + x];
+        r = {std::min(r[0], double(c[0])), std::max(r[1], double(c[1]))};
+      }
+    return r;
+  }
   // Σ over texels of (covered fraction) · value: the box filter of [lo, hi) on the texel grid.
   double box_sum(const std::vector<double>& t, F2 lo, F2 hi) const {
     auto R = [&](int x, int y) { return t[size_t(y) * (W + 1) + x]; };
@@ -270,14 +309,22 @@ shaders::VssmParams vssm_params(const ShadowmapSettings& s, const VssmSetup& v,
   p.m = uint32_t(s.vssm_m);
   p.tree_h = uint32_t(s.vssm_h);
   p.leaf_grid = uint32_t(leaf_grid(s));
+  p.levels = uint32_t(v.level_w.size());
   p.flat_var = float(s.vssm_flat * s.scene_radius);
   p.contact = float(s.vssm_contact * s.scene_radius);
+  p.far_z = float(v.far_z);
   p.z0 = float(v.z0);
   p.off1 = float(f1.offset);
   p.scale1 = float(f1.scale);
   p.off2 = float(f2.offset);
   p.scale2 = float(f2.scale);
-  p.hsm = v.hsm.gpu();
+  // On the GPU level 0 is the map itself (not stored): levels 1... from offset 0.
+  const size_t base = v.level_off.size() > 1 ? v.level_off[1] : 0;
+  for (size_t L = 0; L < v.level_w.size(); ++L) {
+    p.level_off[L] = L == 0 ? 0u : uint32_t(v.level_off[L] - base);
+    p.level_w[L] = uint32_t(v.level_w[L]);
+    p.level_h[L] = uint32_t(v.level_h[L]);
+  }
   return p;
 }
 
@@ -285,7 +332,8 @@ class Vssm final : public detail::ShadowmapMethod {
  public:
   Vssm(gpu::Context& ctx, const ShadowmapSettings& s, const ShadowmapData& map, uint32_t w,
        uint32_t h, bool has_position)
-      : hsm_k_(ctx),
+      : hsm_k_(ctx, "shadows.vssm.hsm", isg_spv_shadowmap_hsm, {gpu::Slot::buffer, gpu::Slot::buffer},
+               sizeof(shaders::HsmPush), HSM_LOCAL, HSM_LOCAL),
         shade_k_(ctx, "shadows.vssm", isg_spv_shadowmap_vssm,
                  {gpu::Slot::buffer, gpu::Slot::texels, gpu::Slot::texels, gpu::Slot::texels,
                   gpu::Slot::texels, gpu::Slot::buffer, gpu::Slot::texels, gpu::Slot::texels,
@@ -303,7 +351,8 @@ class Vssm final : public detail::ShadowmapMethod {
     vparams_ = gpu::Buffer(ctx, sizeof(vp), "vssm.vparams");
     vparams_.upload(&vp, sizeof(vp));
     const size_t texels = map.z.size();
-    hsm_ = gpu::Buffer(ctx, std::max<size_t>(v_.hsm.stored_texels(), 1) * 8, "vssm.hsm");
+    const size_t base = v_.level_off.size() > 1 ? v_.level_off[1] : 0;
+    hsm_ = gpu::Buffer(ctx, std::max<size_t>(v_.hsm_texels - base, 1) * 8, "vssm.hsm");
     sat1_ = gpu::Buffer(ctx, texels * 8, "vssm.sat_z");
     sat2_ = gpu::Buffer(ctx, texels * 8, "vssm.sat_z2");
     stats_ = detail::zeroed_stats(ctx);
@@ -311,8 +360,22 @@ class Vssm final : public detail::ShadowmapMethod {
   void record(gpu::Sequence& seq, const gpu::Buffer& geo, const gpu::Buffer& fg,
               const gpu::Buffer& hard, const gpu::Buffer& map, const gpu::Buffer& soft,
               const std::string& label) override {
-    // Min-max HSM (thesis §7.5.1).
-    hsm_k_.record(seq, map, hsm_, v_.hsm, label);
+    // Min-max HSM, level by level (thesis §7.5.1); level 0 is the map itself (clamped to
+    // far_z where read), level 1 is built from it.
+    const size_t base = v_.level_off.size() > 1 ? v_.level_off[1] : 0;
+    for (size_t L = 1; L < v_.level_w.size(); ++L) {
+      shaders::HsmPush hp{};
+      hp.dst_off = uint32_t(v_.level_off[L] - base);
+      hp.dst_w = uint32_t(v_.level_w[L]);
+      hp.dst_h = uint32_t(v_.level_h[L]);
+      hp.from_map = L == 1 ? 1u : 0u;
+      hp.far_z = float(v_.far_z);
+      hp.src_off = L == 1 ? 0u : uint32_t(v_.level_off[L - 1] - base);
+      hp.src_w = uint32_t(v_.level_w[L - 1]);
+      hp.src_h = uint32_t(v_.level_h[L - 1]);
+      seq.dispatch(hsm_k_, {gpu::Binding::of(map), gpu::Binding::of(hsm_)}, hp, hp.dst_w, hp.dst_h,
+                   label + ".hsm" + std::to_string(L));
+    }
     sat_.record(seq, map, sat1_, mw_, mh_, f1_, label + ".sat_z");
     sat_.record(seq, map, sat2_, mw_, mh_, f2_, label + ".sat_z2");
     shaders::ShadowmapPush pc{w_, h_};
@@ -332,8 +395,7 @@ class Vssm final : public detail::ShadowmapMethod {
   }
 
  private:
-  HsmPass hsm_k_;
-  gpu::Kernel shade_k_;
+  gpu::Kernel hsm_k_, shade_k_;
   SatPass sat_;
   VssmSetup v_;
   SatFixedPoint f1_, f2_;
