@@ -97,12 +97,23 @@ std::vector<float> pcss_reference(const ShadowmapInputs& in, const ShadowmapData
           rf = s.max_radius;
           ++st.clamped;
         }
+        // The filter's blockers: in front of the receiver plane and within reach (the shader's
+        // pcss_reaches).
+        auto reaches = [&](const V2& c, double zm) {
+          if (s.reach <= 0.0) return true;
+          const double r = s.reach * k * std::max(1.0 / zm - 1.0 / q[2], 0.0) + SHADOWMAP_REACH_MARGIN;
+          const double ox = c[0] - q[0], oy = c[1] - q[1];
+          return ox * ox + oy * oy <= r * r;
+        };
         size_t lit = 0;
         for (size_t t = 0; t < nt; ++t) {
           V2 c = tap(t, rf);
-          if (!G.in_map(c[0], c[1]) ||
-              G.fetch(c[0], c[1]) >= G.threshold(q, g, c[0], c[1], texel_world))
+          if (!G.in_map(c[0], c[1])) {
             ++lit;
+            continue;
+          }
+          const double zm = G.fetch(c[0], c[1]);
+          if (zm >= G.threshold(q, g, c[0], c[1], texel_world) || !reaches(c, zm)) ++lit;
         }
         return double(lit) / double(nt);
       });
@@ -150,6 +161,7 @@ shaders::ShadowmapParams shadowmap_params(const ShadowmapSettings& s, const Shad
   p.spread_bias = float(s.spread_bias);
   p.depth_eps = float(depth_eps(map));
   p.input_ulps = float(s.depth_ulps);
+  p.reach = float(s.reach);
   p.has_camera = s.has_camera ? 1u : 0u;
   p.f_px = float(s.f_px);
   p.cx = float(s.window.cx(int(w)));
