@@ -148,6 +148,14 @@ vec2 sm_threshold_range(vec3 q, vec4 g, vec2 lo, vec2 hi, float tw) {
   float lim = g.w * tw * far, b = p.bias * tw + p.spread_bias * g.z;
   return vec2(max(q.z - lim, min(zmin, q.z)), min(q.z + lim, max(q.z, zmax))) - b;
 }
+// Whether the light's cone from the receiver reaches texel centre c at map depth zm (issue 19):
+// kr is shadows.reach times k, the texels per unit of 1/z at the light's radius; 0: always.
+bool sm_reaches(vec3 q, vec2 c, float zm, float kr) {
+  if (kr <= 0.0) return true;
+  float r = kr * max(1.0 / zm - 1.0 / q.z, 0.0) + SHADOWMAP_REACH_MARGIN;
+  vec2 o = c - q.xy;
+  return dot(o, o) <= r * r;
+}
 float sm_fetch(vec2 c) {
   return sm_map(uint(c.y) * p.map_w + uint(c.x));
 }

@@ -49,14 +49,14 @@ struct ShadowmapParams {
   uint origin;
   float far_clip;  // the map's far plane: receivers beyond it are outside the map
   float input_ulps;
-  float reach;  // pcss: shadows.pcss_reach (0: off)
+  float reach;  // shadows.reach: pcss's and vssm's filter taps (0: off)
 };
 // The map's precision: this many times its measured depth noise (ShadowmapData::noise, the
 // deviation of independent per-texel noise; a float32 step is about 2.4 of it).
 #define SHADOWMAP_NOISE_EPS 4.0
-// PCSS's filter counts a texel in front of the receiver plane as a blocker only where the light
-// cone from the receiver reaches it (issue 19): its offset from the receiver's map position at most
-// shadows.pcss_reach times k·(1/z_texel − 1/z_receiver) (k: texels per unit of 1/z at the light's
+// The filters of PCSS and of VSSM's PCF taps count a texel in front of the receiver plane as a
+// blocker only where the light's cone from the receiver reaches it (issue 19): its offset from the
+// receiver's map position at most shadows.reach times k·(1/z_texel − 1/z_receiver) (k: texels per unit of 1/z at the light's
 // radius) plus this many texels — a tap's texel centre lies up to √2/2 texel from where the sample
 // fell and the blocker anywhere in its texel. A surface that meets the receiver's plane extended
 // (a floor in front of a ramp, lit at grazing) lies outside every cone from the receiver to the

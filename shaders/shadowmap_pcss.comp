@@ -4,7 +4,7 @@
 // PCSS (thesis §2.4.2): blocker search over the region a blocker as near as the map's nearest
 // depth could shadow the receiver from, then PCF over the penumbra width
 // w = (d_receiver − d_blocker)·w_light/d_blocker, in map texels at the receiver's depth; the
-// filter's blockers only those whose light cone reaches the receiver (pcss_reaches).
+// filter's blockers only those the light's cone from the receiver reaches (sm_reaches).
 layout(local_size_x = SHADOWMAP_LOCAL, local_size_y = SHADOWMAP_LOCAL) in;
 layout(std430, binding = 0) readonly buffer Prm { ShadowmapParams p_in; };
 ShadowmapParams p;  // p_in, copied once at the top of main
@@ -17,16 +17,6 @@ layout(std430, binding = 6) writeonly buffer Soft { float soft[]; };
 layout(std430, binding = 7) buffer Stats { uint stats[]; };
 layout(push_constant) uniform Push { ShadowmapPush pc; };
 #include "shadowmap_common.h"
-
-// The filter's blocker test (issue 19): the texel at c (map depth zm) in front of the receiver
-// plane shadows the receiver only where the light's cone from it reaches c, widened by
-// shadows.pcss_reach and SHADOWMAP_REACH_MARGIN; k: texels per unit of 1/z at the light's radius.
-bool pcss_reaches(vec3 q, vec2 c, float zm, float k) {
-  if (p.reach <= 0.0) return true;
-  float r = p.reach * k * max(1.0 / zm - 1.0 / q.z, 0.0) + SHADOWMAP_REACH_MARGIN;
-  vec2 o = c - q.xy;
-  return dot(o, o) <= r * r;
-}
 
 void main() {
   p = p_in;
@@ -68,7 +58,7 @@ void main() {
     vec2 c = floor(q.xy + rot * texelFetch(taps, int(t)).xy * rf) + 0.5;
     if (c.x < 0.0 || c.y < 0.0 || c.x >= float(p.map_w) || c.y >= float(p.map_h)) { ++lit; continue; }
     float zm = sm_fetch(c);
-    if (zm >= sm_threshold(q, g, c, texel_world) || !pcss_reaches(q, c, zm, k)) ++lit;
+    if (zm >= sm_threshold(q, g, c, texel_world) || !sm_reaches(q, c, zm, p.reach * k)) ++lit;
   }
   soft[i] = float(lit) / float(p.taps);
 }

@@ -112,8 +112,8 @@ void cell(vec2 a, vec2 b, int n, int ix, int iy, out vec2 lo, out vec2 hi) {
 bool empty(vec2 lo, vec2 hi) { return hi.x - lo.x < 1e-3 || hi.y - lo.y < 1e-3; }
 
 // PCF over a g x g grid in [lo, hi) (each tap the texel under a cell centre): lit fraction;
-// blockers' count and depth sum.
-float pcf(vec2 lo, vec2 hi, uint g, vec3 q, vec4 gr, float tw, out float nb, out float zb) {
+// blockers' count and depth sum. kr > 0 (the filter's): blockers only within reach (sm_reaches).
+float pcf(vec2 lo, vec2 hi, uint g, vec3 q, vec4 gr, float tw, float kr, out float nb, out float zb) {
   nb = 0.0;
   zb = 0.0;
   for (uint j = 0u; j < g; ++j)
@@ -121,7 +121,7 @@ float pcf(vec2 lo, vec2 hi, uint g, vec3 q, vec4 gr, float tw, out float nb, out
       vec2 c = min(floor(lo + (vec2(i, j) + 0.5) / float(g) * (hi - lo)),
                    vec2(p.map_w - 1u, p.map_h - 1u)) + 0.5;
       float z = sm_fetch(c);
-      if (z < sm_threshold(q, gr, c, tw)) { nb += 1.0; zb += z; }
+      if (z < sm_threshold(q, gr, c, tw) && sm_reaches(q, c, z, kr)) { nb += 1.0; zb += z; }
     }
   return 1.0 - nb / float(g * g);
 }
@@ -203,7 +203,7 @@ void main() {
         sA += mo.T; sZ += mo.ez * mo.T; sZ2 += mo.ez2 * mo.T; sT += (t + unbias) * mo.T;
       } else if ((mo.ez < t || variance(mo.ez, mo.ez2) >= v.flat_var) && v.leaf_grid > 0u) {
         float nb, zb;
-        pcf(lo, hi, v.leaf_grid, q, g, tw, nb, zb);
+        pcf(lo, hi, v.leaf_grid, q, g, tw, 0.0, nb, zb);
         float n = float(v.leaf_grid * v.leaf_grid);
         bPcf += mo.T * nb / n;
         zPcf += mo.T * zb / n;
@@ -232,7 +232,7 @@ void main() {
     atomicAdd(stats[SHADOWMAP_STAT_CONTACT], 1u);
     float nb, zb;
     square(q, max(rf, 1.0), a, b);
-    soft[i] = pcf(a, b, 3u, q, g, tw, nb, zb);
+    soft[i] = pcf(a, b, 3u, q, g, tw, p.reach * k, nb, zb);
     return;
   }
   // The filter kernel as a quad-tree of height H, traversed linearly (Algorithm 3): a node is
@@ -265,7 +265,7 @@ void main() {
         down = true;                                  // L21
       } else if (v.leaf_grid > 0u) {
         float nb, zb;                                 // L23-L26
-        pLit += mo.T * pcf(lo, hi, v.leaf_grid, q, g, tw, nb, zb);
+        pLit += mo.T * pcf(lo, hi, v.leaf_grid, q, g, tw, p.reach * k, nb, zb);
         pA += mo.T;
       } else if (mo.ez < t) {
         sA += mo.T; sZ += mo.ez * mo.T; sZ2 += mo.ez2 * mo.T; sT += (t + unbias) * mo.T;

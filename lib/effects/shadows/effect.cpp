@@ -67,11 +67,11 @@ class Shadows final : public Effect {
        "pcss: blocker-search and PCF taps per pixel (stratified: rounded to a square grid)"),
       params::def(shadow_keys::pcss_pattern, "stratified", {"stratified", "poisson"},
        "pcss: tap pattern in the disk, rotated per pixel when shadows.rotate is on"),
-      params::def(shadow_keys::pcss_reach, "2", 0, 1e3,
-       "pcss: a texel in front of the receiver plane shadows the pixel only within this many "
-       "times the reach of the light's cone from the pixel at the texel's depth (plus 1.5 "
-       "texels); a floor in front of a ramp lit at grazing then no longer darkens it; 0: every "
-       "such texel in the kernel, as the thesis (§2.4.2)"),
+      params::def(shadow_keys::reach, "2", 0, 1e3,
+       "pcss, vssm: a filter tap's texel in front of the receiver plane shadows the pixel only "
+       "within this many times the reach of the light's cone from the pixel at the texel's depth "
+       "(plus 1.5 texels): a floor in front of a ramp lit at grazing no longer darkens it; 0: "
+       "every such texel, as the thesis (PCSS §2.4.2, VSSM's PCF §7.4.2)"),
       params::def(shadow_keys::bias, "2", 0, 100,
        "shadow-map methods: constant depth bias, in shadow-map texel footprints at the "
        "receiver, on top of the receiver-plane depth (fitted from the screen neighbours)",

@@ -128,6 +128,15 @@ struct Geom {
     zc = std::clamp(zc, q[2] - lim, q[2] + lim);
     return zc - s.bias * texel_world - s.spread_bias * g[2];
   }
+  // Whether the light's cone from the receiver reaches texel (cx, cy) at map depth zm: kr is
+  // shadows.reach times k, the texels per unit of 1/z at the light's radius; 0: always
+  // (shadowmap_common.h's sm_reaches).
+  static bool reaches(const V3& q, double cx, double cy, double zm, double kr) {
+    if (kr <= 0.0) return true;
+    const double r = kr * std::max(1.0 / zm - 1.0 / q[2], 0.0) + SHADOWMAP_REACH_MARGIN;
+    const double ox = cx - q[0], oy = cy - q[1];
+    return ox * ox + oy * oy <= r * r;
+  }
   // Bounds of threshold() over the box [lo, hi): 1/z is linear in (u, v), so the plane's depth
   // is extreme at the corners; its clamp to q.z ± g[3]·tw·|o| is bounded by the farthest corner.
   std::array<double, 2> threshold_range(const V3& q, const Plane& g, V2 lo, V2 hi, double tw) const {

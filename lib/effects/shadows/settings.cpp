@@ -94,7 +94,7 @@ ShadowmapSettings shadowmap_settings(const io::Light& light, const io::Camera* c
   s.light_radius = light_size(light);
   s.taps = int(p.get(shadow_keys::pcss_taps));
   s.pattern = p.get(shadow_keys::pcss_pattern);
-  s.reach = p.get(shadow_keys::pcss_reach);
+  s.reach = p.get(shadow_keys::reach);
   s.rotate = p.get(shadow_keys::rotate);
   s.bias = p.get(shadow_keys::bias);
   s.slope_max = p.get(shadow_keys::slope_max);

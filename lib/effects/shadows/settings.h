@@ -67,7 +67,7 @@ struct ShadowmapSettings {
   double light_radius = 0.0;              // world units (light_size() of the light)
   int taps = 32;                          // shadows.pcss_taps
   std::string pattern = "stratified";     // shadows.pcss_pattern: stratified | poisson
-  double reach = 2.0;                     // shadows.pcss_reach (0: off)
+  double reach = 2.0;                     // shadows.reach: pcss's and vssm's filter taps (0: off)
   bool rotate = true;                     // shadows.rotate
   double bias = 2.0;                      // shadows.bias, receiver texel footprints
   double slope_max = 4.0;                 // shadows.slope_max

@@ -97,14 +97,7 @@ std::vector<float> pcss_reference(const ShadowmapInputs& in, const ShadowmapData
           rf = s.max_radius;
           ++st.clamped;
         }
-        // The filter's blockers: in front of the receiver plane and within reach (the shader's
-        // pcss_reaches).
-        auto reaches = [&](const V2& c, double zm) {
-          if (s.reach <= 0.0) return true;
-          const double r = s.reach * k * std::max(1.0 / zm - 1.0 / q[2], 0.0) + SHADOWMAP_REACH_MARGIN;
-          const double ox = c[0] - q[0], oy = c[1] - q[1];
-          return ox * ox + oy * oy <= r * r;
-        };
+        // The filter's blockers: in front of the receiver plane and within reach.
         size_t lit = 0;
         for (size_t t = 0; t < nt; ++t) {
           V2 c = tap(t, rf);
@@ -113,7 +106,8 @@ std::vector<float> pcss_reference(const ShadowmapInputs& in, const ShadowmapData
             continue;
           }
           const double zm = G.fetch(c[0], c[1]);
-          if (zm >= G.threshold(q, g, c[0], c[1], texel_world) || !reaches(c, zm)) ++lit;
+          if (zm >= G.threshold(q, g, c[0], c[1], texel_world) || !Geom::reaches(q, c[0], c[1], zm, s.reach * k))
+            ++lit;
         }
         return double(lit) / double(nt);
       });

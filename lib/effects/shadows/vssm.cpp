@@ -151,7 +151,8 @@ struct VssmRef {
     hi = {a[0] + sx * (ix + 1), a[1] + sy * (iy + 1)};
   }
   static bool empty(F2 lo, F2 hi) { return hi[0] - lo[0] < 1e-3 || hi[1] - lo[1] < 1e-3; }
-  double pcf(F2 lo, F2 hi, int g, const V3& q, const Plane& gr, double tw, double& nb,
+  // kr > 0 (the filter's): blockers only within reach (Geom::reaches).
+  double pcf(F2 lo, F2 hi, int g, const V3& q, const Plane& gr, double tw, double kr, double& nb,
              double& zb) const {
     nb = zb = 0;
     for (int j = 0; j < g; ++j)
@@ -159,7 +160,7 @@ struct VssmRef {
         const double cx = std::min(std::floor(lo[0] + (i + 0.5) / g * (hi[0] - lo[0])), double(W - 1)) + 0.5;
         const double cy = std::min(std::floor(lo[1] + (j + 0.5) / g * (hi[1] - lo[1])), double(Hh - 1)) + 0.5;
         const double z = G.fetch(cx, cy);
-        if (z < G.threshold(q, gr, cx, cy, tw)) { nb += 1; zb += z; }
+        if (z < G.threshold(q, gr, cx, cy, tw) && Geom::reaches(q, cx, cy, z, kr)) { nb += 1; zb += z; }
       }
     return 1.0 - nb / double(g * g);
   }
@@ -222,7 +223,7 @@ struct VssmRef {
           sA += mo.T; sZ += mo.ez * mo.T; sZ2 += mo.ez2 * mo.T; sT += (t + unbias) * mo.T;
         } else if ((mo.ez < t || variance(mo.ez, mo.ez2) >= flat) && grid > 0) {
           double nb, zb;
-          pcf(lo, hi, grid, q, g, tw, nb, zb);
+          pcf(lo, hi, grid, q, g, tw, 0.0, nb, zb);
           const double n = double(grid * grid);
           bPcf += mo.T * nb / n;
           zPcf += mo.T * zb / n;
@@ -248,7 +249,7 @@ struct VssmRef {
       ++st.contact;
       double nb, zb;
       square(q, std::max(rf, 1.0), a, b);
-      return pcf(a, b, 3, q, g, tw, nb, zb);
+      return pcf(a, b, 3, q, g, tw, s.reach * k, nb, zb);
     }
     double lA = 0, uA = 0, pA = 0, pLit = 0;
     sA = sZ = sZ2 = sT = 0;
@@ -276,7 +277,7 @@ struct VssmRef {
           down = true;
         } else if (grid > 0) {
           double nb, zb;
-          pLit += mo.T * pcf(lo, hi, grid, q, g, tw, nb, zb);
+          pLit += mo.T * pcf(lo, hi, grid, q, g, tw, s.reach * k, nb, zb);
           pA += mo.T;
         } else if (mo.ez < t) {
           sA += mo.T; sZ += mo.ez * mo.T; sZ2 += mo.ez2 * mo.T; sT += (t + unbias) * mo.T;
