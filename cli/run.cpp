@@ -122,9 +122,11 @@ int run_single(const RunArgs& a, isg::run::JobConfig& job) {
   isg::gpu::Context& ctx = *gpu;
   auto st = isg::run::process_frame(ctx, job, f);
   for (const auto& w : st.warnings) std::cerr << "isg: warning: " << w << "\n";
-  // What the effects chose from the pixels (shadows.method = auto), and why.
+  // What the effects chose from the pixels (shadows.method = auto), and why; notes on a method
+  // named where another suits the frame better.
   for (const auto& e : f.plan.effects)
-    if (e.why.rfind("auto: ", 0) == 0) std::cout << e.effect << ": " << e.method << " (" << e.why << ")\n";
+    if (e.why.rfind("auto: ", 0) == 0 || e.why.rfind("note: ", 0) == 0)
+      std::cout << e.effect << ": " << e.method << " (" << e.why << ")\n";
   double write_ms = isg::run::write_frame(job, f, a.output);
   std::cout << "wrote " << a.output << " (" << f.img.width << "x" << f.img.height << ", "
             << f.img.channels.size() << " channels)\n";

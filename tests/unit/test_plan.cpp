@@ -108,9 +108,9 @@ struct AutoFloor {
   }
 };
 
-isg::effects::EffectStatus auto_status(const AutoFloor& f) {
+isg::effects::EffectStatus auto_status(const AutoFloor& f, const char* method = "auto") {
   auto p = isg::effects::default_params();
-  p.set_text("shadows.method", "auto", "test");
+  p.set_text("shadows.method", method, "test");
   const auto img = f.image();
   const auto scene = f.scene();
   const auto roles = roles_of(img.channel_names());
@@ -136,6 +136,15 @@ TEST(Plan, AutoShadowMethodPicksPcssOrIsgFromThePixels) {
   std::printf("grazing: %s (%s)\n", st.method.c_str(), st.why.c_str());
   EXPECT_EQ(st.method, "isg");
   EXPECT_NE(st.why.find("grazes"), std::string::npos);
+  // A shadow-map method named there runs as asked, with a note; overhead, none.
+  for (const char* m : {"pcss", "vssm", "cssm"}) {
+    st = auto_status(grazing, m);
+    std::printf("grazing, %s named: %s (%s)\n", m, st.method.c_str(), st.why.c_str());
+    EXPECT_TRUE(st.runs);
+    EXPECT_EQ(st.method, m);
+    EXPECT_EQ(st.why.rfind("note: shadows.method=auto would take isg here: the light grazes", 0), 0u) << m;
+    EXPECT_EQ(auto_status(overhead, m).why, "") << m;
+  }
 
   AutoFloor far;
   far.ox = far.oy = 1e5;

@@ -154,11 +154,20 @@ class Shadows final : public Effect {
     return out;
   }
 
-  // shadows.method = auto: each light's method from the frame's pixels.
+  // shadows.method = auto: each light's method from the frame's pixels. A shadow-map method
+  // named explicitly where auto would take isg (a grazing light, a scene far from the origin)
+  // runs as asked, with a note saying why isg would suit the frame better (issue 19).
   void choose(const PlanContext& c, const io::Image& img, Choices& out) const override {
-    if (c.p.get(shadow_keys::method) != "auto") return;
+    const std::string m = c.p.get(shadow_keys::method);
+    const bool map_method = m == "pcss" || m == "vssm" || m == "cssm";
+    if (m != "auto" && !map_method) return;
     for (const auto& l : c.roles.lights) {
       const ShadowAuto a = choose_shadow_method(img, c.roles, c.scene.light(l), l, c.camera, c.p);
+      if (map_method) {
+        if (a.method == "isg" && c.roles.has(l + ".occluder") && c.roles.has(l + ".shadow"))
+          out["shadows[" + l + "]/note"] = "shadows.method=auto would take isg here: " + a.why;
+        continue;
+      }
       out["shadows[" + l + "]"] = a.method;
       out["shadows[" + l + "]/why"] = a.why;
     }
@@ -235,6 +244,8 @@ class Shadows final : public Effect {
         st.runs = true;
       }
       if (!auto_why.empty() && st.why.empty()) st.why = auto_why;
+      if (const std::string* note = c.choice("shadows[" + l + "]/note"); note && st.runs && st.why.empty())
+        st.why = "note: " + *note;
       out.status(st);
       if (!st.runs) continue;
       inst->method = st.method;
