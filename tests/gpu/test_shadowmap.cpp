@@ -121,26 +121,24 @@ TEST_F(ShadowmapGpu, MapMethodsKeepARampOverAGrazingFloorLit) {
       z[size_t(j) * map + i] = float(d > 100.0 ? 1e30 : d);
     }
   const auto smap = fx::make_shadowmap(map, map, std::move(z));
-  fx::ShadowmapInputs in;
-  in.w = w;
-  in.h = h;
-  const size_t n = size_t(w) * h;
-  in.position.resize(3 * n);
-  in.fg.assign(n, 1.0f);
-  in.hard.assign(n, 1.0f);
-  for (int y = 0; y < h; ++y)
-    for (int x = 0; x < w; ++x) {
-      const size_t i = size_t(y) * w + x;
-      const double px = -0.5 + (x + 0.5) / w, py = 0.25 - 0.5 * (y + 0.5) / h;  // x in [-0.5, 0.5]
-      in.position[i] = float(px);
-      in.position[n + i] = float(py);
-      in.position[2 * n + i] = float(-(z0 + (px < 0.0 ? s_floor : s_ramp) * px));
-    }
+  // Receivers on Planes' grid scaled to x in [-0.5, 0.5], y in [-0.25, 0.25]: the floor left of
+  // the seam, the ramp right of it.
+  Planes pl;
+  pl.w = w;
+  pl.h = h;
+  pl.R = 0.2;
+  auto in = pl.inputs();
+  const size_t n = in.fg.size();
+  std::fill(in.hard.begin(), in.hard.end(), 1.0f);
+  for (size_t i = 0; i < n; ++i) {
+    const double px = 0.5 * in.position[i];
+    in.position[i] = float(px);
+    in.position[n + i] *= 0.25f;
+    in.position[2 * n + i] = float(-(z0 + (px < 0.0 ? s_floor : s_ramp) * px));
+  }
   // Within two texels of the seam (0.031 wide at depth 8) a blocker within the reach's margin
   // may stand: there the receiver touches the floor (contact).
   const double band = 2.0 * 2.0 * z0 / map;
-  Planes pl;
-  pl.R = 0.2;
   for (const std::string method : {"pcss", "vssm"}) {
     double dark[2] = {0, 0}, mean[2] = {0, 0};
     for (int r = 0; r < 2; ++r) {
