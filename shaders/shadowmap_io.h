@@ -55,10 +55,10 @@ struct ShadowmapParams {
 // deviation of independent per-texel noise; a float32 step is about 2.4 of it).
 #define SHADOWMAP_NOISE_EPS 4.0
 // The filters of PCSS and of VSSM's PCF taps count a texel in front of the receiver plane as a
-// blocker only where the light's cone from the receiver reaches it (issue 19): its offset from the
-// receiver's map position at most shadows.reach times k·(1/z_texel − 1/z_receiver) (k: texels per unit of 1/z at the light's
-// radius) plus this many texels — a tap's texel centre lies up to √2/2 texel from where the sample
-// fell and the blocker anywhere in its texel. A surface that meets the receiver's plane extended
+// blocker only where the light's cone from the receiver reaches it (issue 19): its offset from
+// the receiver's map position at most shadows.reach times k·(1/z_texel − 1/z_receiver) (k:
+// texels per unit of 1/z at the light's radius) plus this many texels — a tap's texel centre lies
+// up to √2/2 texel from where the sample fell and the blocker anywhere in its texel. A surface that meets the receiver's plane extended
 // (a floor in front of a ramp, lit at grazing) lies outside every cone from the receiver to the
 // light and no longer shadows it.
 #define SHADOWMAP_REACH_MARGIN 1.5

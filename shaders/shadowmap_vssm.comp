@@ -8,7 +8,8 @@
 // moments of eq. 7.5) and PCF (non-planar ones, §7.4.2); the filter kernel is traversed as a
 // quad-tree of height H without a stack (Algorithm 3); near contact a 3x3 PCF (§7.5.4). A
 // sub-kernel counts as planar only where the receiver's threshold is flat across it
-// (threshold_flat): else it is split, or filtered by PCF at the tree's leaves.
+// (threshold_flat): else it is split, or filtered by PCF at the tree's leaves. The filter's PCF
+// taps count only blockers the light's cone from the receiver reaches (sm_reaches, issue 19).
 // lib/effects/shadows/vssm.cpp holds the double mirror.
 layout(local_size_x = SHADOWMAP_LOCAL, local_size_y = SHADOWMAP_LOCAL) in;
 layout(std430, binding = 0) readonly buffer Prm { ShadowmapParams p_in; };

@@ -244,8 +244,8 @@ class Shadows final : public Effect {
         st.runs = true;
       }
       if (!auto_why.empty() && st.why.empty()) st.why = auto_why;
-      if (const std::string* note = c.choice("shadows[" + l + "]/note"); note && st.runs && st.why.empty())
-        st.why = "note: " + *note;
+      const std::string* note = c.choice("shadows[" + l + "]/note");
+      if (note && st.runs && st.why.empty()) st.why = "note: " + *note;
       out.status(st);
       if (!st.runs) continue;
       inst->method = st.method;

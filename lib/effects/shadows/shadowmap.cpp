@@ -106,7 +106,8 @@ std::vector<float> pcss_reference(const ShadowmapInputs& in, const ShadowmapData
             continue;
           }
           const double zm = G.fetch(c[0], c[1]);
-          if (zm >= G.threshold(q, g, c[0], c[1], texel_world) || !Geom::reaches(q, c[0], c[1], zm, s.reach * k))
+          if (zm >= G.threshold(q, g, c[0], c[1], texel_world) ||
+              !Geom::reaches(q, c[0], c[1], zm, s.reach * k))
             ++lit;
         }
         return double(lit) / double(nt);
