@@ -164,7 +164,7 @@ class Shadows final : public Effect {
     for (const auto& l : c.roles.lights) {
       const ShadowAuto a = choose_shadow_method(img, c.roles, c.scene.light(l), l, c.camera, c.p);
       if (map_method) {
-        if (a.method == "isg" && c.roles.has(l + ".occluder") && c.roles.has(l + ".shadow"))
+        if (a.method == "isg")
           out["shadows[" + l + "]/note"] = "shadows.method=auto would take isg here: " + a.why;
         continue;
       }
