@@ -42,7 +42,8 @@ TEST_F(CssmGpu, MatchesDoubleReference) {
         pl.map = 128;
         auto map = pl.shadowmap();
         auto in = pl.inputs();
-        in.fg[5] = 0.0f;  // background keeps the hard shadow
+        in.fg[5] = 0.0f;  // background keeps the hard shadow (marked)
+        in.hard[5] = 0.5f;
         const auto s = cssm_settings(pl, order, filter);
         fx::ShadowmapStats sr, sg;
         const auto want = fx::cssm_reference(in, map, s, &sr);

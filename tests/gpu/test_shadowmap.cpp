@@ -41,7 +41,8 @@ TEST_F(ShadowmapGpu, PcssMatchesDoubleReference) {
       pl.slope = slope;
       auto map = pl.shadowmap();
       auto in = pl.inputs();
-      in.fg[5] = 0.0f;  // background keeps the hard shadow
+      in.fg[5] = 0.0f;  // background keeps the hard shadow (marked)
+      in.hard[5] = 0.5f;
       auto s = pl.settings(25, pat);
       fx::ShadowmapStats sr, sg;
       auto want = fx::pcss_reference(in, map, s, &sr);
@@ -174,6 +175,42 @@ TEST_F(ShadowmapGpu, MapMethodsKeepARampOverAGrazingFloorLit) {
     EXPECT_LE(mean[1], 0.5 * mean[0]) << method;
     // Without the reach test the ramp is dark past the seam's band: the test sees what it guards.
     EXPECT_GE(dark[0], 0.05) << method;
+  }
+}
+
+// shadows.input_edges: a near-point light (penumbra 0.004 texels wide) and a 32² map whose texel is
+// 12 pixels wide on the receiver, the occluder's edge 0.28 texel past a texel's centre: the map
+// puts the shadow's edge up to half a texel off, the renderer's L.shadow (here the closed form's
+// centre ray) exactly. Without the input's edges the columns between the two edges are wrong; with
+// them pcss gives the closed form, vssm and cssm halve the error (measured 0.156 -> 0.073,
+// 0.162 -> 0.073): their smallest kernels are a texel wide or more (vssm's contact PCF, cssm's box),
+// so the map's edge stays blurred in the texels on either side.
+TEST_F(ShadowmapGpu, MapMethodsTakeEdgesTheMapCannotPlaceFromTheInput) {
+  Planes pl;
+  pl.map = 32;
+  pl.R = 1e-3;
+  pl.edge = 0.04;  // texel 16's centre is at 0.03125, its far side at 0.0625
+  const auto smap = pl.shadowmap();
+  const auto in = pl.inputs();
+  for (const std::string method : {"pcss", "vssm", "cssm"}) {
+    double e[2] = {0, 0};
+    for (int on = 0; on < 2; ++on) {
+      auto s = pl.settings(32, "stratified", method);
+      s.input_edges = on != 0;
+      const auto got = run_gpu(ctx(), in, smap, s, nullptr);
+      const auto want = method == "pcss"   ? fx::pcss_reference(in, smap, s, nullptr)
+                        : method == "vssm" ? fx::vssm_reference(in, smap, s, nullptr)
+                                           : fx::cssm_reference(in, smap, s, nullptr);
+      double md;
+      const size_t bad = mismatches(got, want, &md);
+      e[on] = planes_rmse(pl, in, got);
+      std::printf("edge 0.28 texel off a 32² map's texel centre, %s, input edges %s: RMSE %.4f "
+                  "against the closed form; GPU and reference differ at %zu pixels (max %.3f)\n",
+                  method.c_str(), on ? "on" : "off", e[on], bad, md);
+      EXPECT_LE(bad, want.size() / 200) << method << " " << on;
+    }
+    EXPECT_GE(e[0], 0.1) << method;  // the map alone misplaces the edge: the test sees it
+    EXPECT_LE(e[1], method == "pcss" ? 0.02 : 0.5 * e[0]) << method;
   }
 }
 

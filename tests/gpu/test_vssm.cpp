@@ -54,7 +54,8 @@ TEST_F(Vssm, MatchesDoubleReference) {
       pl.slope = slope;
       const auto map = pl.shadowmap();
       auto in = pl.inputs();
-      in.fg[5] = 0.0f;
+      in.fg[5] = 0.0f;  // background keeps the hard shadow (marked)
+      in.hard[5] = 0.5f;
       const auto s = vssm(pl, c.m, c.h, c.leaf);
       fx::ShadowmapStats sr, sg;
       const auto want = fx::vssm_reference(in, map, s, &sr);

@@ -18,10 +18,11 @@ namespace fx = isg::effects;
 inline constexpr double kPi = 3.14159265358979323846;
 
 // The light at the origin looking down -Z (world_to_light = identity), 90° map. An occluder
-// half-plane x < 0 at depth d_o (none where d_o <= 0); the receiver z = -(z_r + slope·x) (slope
-// 0: parallel planes).
+// half-plane x < edge·d_o at depth d_o (none where d_o <= 0); the receiver z = -(z_r + slope·x)
+// (slope 0: parallel planes).
 struct Planes {
   double d_o = 2.0, z_r = 4.0, slope = 0.0, R = 0.2;
+  double edge = 0.0;  // the occluder's edge, x/z (tan) from the light
   double far = 1e3;  // the receiver plane ends at this depth (a sloped one; background beyond)
   int map = 256, w = 96, h = 96;
   fx::ShadowmapData shadowmap() const {
@@ -32,11 +33,13 @@ struct Planes {
         // The receiver's depth along that ray: z = z_r + slope·a·z; rays that miss it see
         // background (1e30, as a renderer writes it).
         double den = 1.0 - slope * a;
-        z[size_t(j) * map + i] = float(a < 0.0 && d_o > 0.0 ? d_o : (den > z_r / far ? z_r / den : 1e30));
+        z[size_t(j) * map + i] = float(a < edge && d_o > 0.0 ? d_o : (den > z_r / far ? z_r / den : 1e30));
       }
     return fx::make_shadowmap(map, map, std::move(z));
   }
-  // Receivers on a grid x, y ∈ [-1, 1] (as P).
+  // Receivers on a grid x, y ∈ [-1, 1] (as P); L.shadow the renderer's hard verdict, the ray
+  // from the light's centre (the origin) to the receiver: blocked where it crosses depth d_o at
+  // x < edge·d_o, i.e. x / z < edge with the occluder in front.
   fx::ShadowmapInputs inputs() const {
     fx::ShadowmapInputs in;
     in.w = w;
@@ -44,7 +47,7 @@ struct Planes {
     const size_t n = size_t(w) * h;
     in.position.resize(3 * n);
     in.fg.assign(n, 1.0f);
-    in.hard.assign(n, 0.5f);
+    in.hard.assign(n, 1.0f);
     for (int y = 0; y < h; ++y)
       for (int x = 0; x < w; ++x) {
         size_t i = size_t(y) * w + x;
@@ -52,12 +55,14 @@ struct Planes {
         in.position[i] = float(px);
         in.position[n + i] = float(py);
         in.position[2 * n + i] = float(-(z_r + slope * px));
+        if (d_o > 0.0 && d_o < z_r + slope * px && px / (z_r + slope * px) < edge) in.hard[i] = 0.0f;
       }
     return in;
   }
-  // Closed form for the parallel planes: the part of the light disk seen past the edge.
+  // Closed form for the parallel planes: the part of the light disk seen past the edge (the line
+  // from the receiver at x through the edge meets the light's plane at c).
   double visible(double x) const {
-    double c = -x * d_o / (z_r - d_o);
+    double c = (edge * z_r - x) * d_o / (z_r - d_o);
     if (c >= R) return 0.0;
     if (c <= -R) return 1.0;
     return (R * R * std::acos(c / R) - c * std::sqrt(R * R - c * c)) / (kPi * R * R);

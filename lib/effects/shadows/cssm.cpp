@@ -62,6 +62,7 @@ namespace isg::effects {
 using detail::Geom;
 using detail::kPi;
 using detail::Plane;
+using detail::Shaded;
 using detail::V2;
 using detail::V3;
 
@@ -284,7 +285,7 @@ std::vector<float> cssm_reference(const ShadowmapInputs& in, const ShadowmapData
   const int M = u.M;
   ShadowmapStats st;
   const double k = s.light_radius * map.height / (2.0 * G.tan_y);
-  auto out = detail::shade_receivers(G, st, [&](int, int, const V3& q, const Plane& g) -> double {
+  auto out = detail::shade_receivers(G, st, [&](int, int, const V3& q, const Plane& g) -> Shaded {
     const double texel_world = 2.0 * q[2] * G.tan_y / map.height;
     const double cx = std::floor(q[0]) + 0.5, cy = std::floor(q[1]) + 0.5;
     const double d =
@@ -340,7 +341,7 @@ std::vector<float> cssm_reference(const ShadowmapInputs& in, const ShadowmapData
     const double sf = visibility(hs);
     if (suppress(u, sf) >= 1.0 || 1.0 - sf < kMinBlockers) {
       ++st.skipped;  // no blockers: fully lit
-      return 1.0;
+      return {1.0, 0.0};
     }
     // CSM-Z (eq. 5.11), then z_avg (eq. 5.8).
     const double num = filtered(hs, true);
@@ -354,7 +355,7 @@ std::vector<float> cssm_reference(const ShadowmapInputs& in, const ShadowmapData
     }
     const double v = suppress(u, visibility(std::max(kBoxOfDisk * rf, kMinHalfWidth)));
     const double p = 1.0 + s.cssm_a * std::exp(-s.cssm_b * (d - z_avg));  // eq. 5.9
-    return std::pow(v, p);
+    return {std::pow(v, p), rf};
   });
   if (stats) *stats = st;
   return out;

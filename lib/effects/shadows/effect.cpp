@@ -72,6 +72,11 @@ class Shadows final : public Effect {
        "within this many times the reach of the light's cone from the pixel at the texel's depth "
        "(plus 1.5 texels): a floor in front of a ramp lit at grazing no longer darkens it; 0: "
        "every such texel, as the thesis (PCSS §2.4.2, VSSM's PCF §7.4.2)"),
+      params::def(shadow_keys::input_edges, "true",
+       "pcss, vssm, cssm: where the filter is narrower than the map resolves, the input's "
+       "ray-traced L.shadow places the shadow's edges: the result moves by its verdict minus the "
+       "map's at the receiver, times the receiver texel's share of the filter's disk, "
+       "min(1, 1/(pi r^2)) for a filter r texels wide; false: the map's verdict alone"),
       params::def(shadow_keys::bias, "2", 0, 100,
        "shadow-map methods: constant depth bias, in shadow-map texel footprints at the "
        "receiver, on top of the receiver-plane depth (fitted from the screen neighbours)",
@@ -239,7 +244,11 @@ class Shadows final : public Effect {
           why = "no camera (scene file, or worldToCamera/worldToNDC in the header) to place Z";
         st.why = why;
         st.runs = why.empty();
-        if (st.runs) inst->smap = shadowmap_settings(*light, cam, c.scene.scene_radius, p, method, c.view_h());
+        if (st.runs) {
+          inst->smap = shadowmap_settings(*light, cam, c.scene.scene_radius, p, method, c.view_h());
+          // Without the input's own L.shadow there is no second verdict to place edges with.
+          inst->smap->input_edges = inst->smap->input_edges && roles.has(l + ".shadow");
+        }
       } else {
         st.runs = true;
       }

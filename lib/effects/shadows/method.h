@@ -158,11 +158,29 @@ struct Geom {
   double fetch(double cx, double cy) const {
     return map.z[size_t(cy) * size_t(map.width) + size_t(cx)];
   }
+  // shadows.input_edges (sm_input_edges): v moved by the input's hard verdict minus the map's at
+  // the receiver's texel, times that texel's share of a filter rf texels wide, min(1, 1/(π rf²)).
+  double input_edges(double v, double hard_in, const V3& q, const Plane& g, double rf) const {
+    if (!s.input_edges) return v;
+    const double cx = std::floor(q[0]) + 0.5, cy = std::floor(q[1]) + 0.5;
+    const double tw = double(float(2.0 * q[2] * tan_y / map.height));
+    const double map_lit = fetch(cx, cy) >= threshold(q, g, cx, cy, tw) ? 1.0 : 0.0;
+    const double share = 1.0 / std::max(kPi * rf * rf, 1.0);
+    return std::clamp(v + share * (hard_in - map_lit), 0.0, 1.0);
+  }
+};
+
+// One receiver shaded by a method: its filtered visibility and the filter's radius in texels
+// (0 where the map's verdict stood alone: a lit or umbra region, or no blocker found).
+struct Shaded {
+  double s;
+  double rf;
 };
 
 // Every reference's loop over the receivers, as every shadow-map pass does it: background and
 // pixels outside the map keep the hard shadow; back-facing receivers too (counted as skipped);
-// `shade(px, py, q, g)` gives the rest (q: the receiver in light space, g: its receiver plane).
+// `shade(px, py, q, g)` gives the rest (q: the receiver in light space, g: its receiver plane),
+// which input_edges finishes.
 template <class Shade>
 std::vector<float> shade_receivers(const Geom& G, ShadowmapStats& st, Shade&& shade) {
   const auto& in = G.in;
@@ -178,7 +196,8 @@ std::vector<float> shade_receivers(const Geom& G, ShadowmapStats& st, Shade&& sh
       bool back = false;
       const Plane g = G.receiver_plane(px, py, q, P, back);
       if (back) { ++st.skipped; continue; }
-      out[i] = float(shade(px, py, q, g));
+      const Shaded r = shade(px, py, q, g);
+      out[i] = float(G.input_edges(r.s, double(in.hard[i]), q, g, r.rf));
     }
   return out;
 }

@@ -95,6 +95,7 @@ ShadowmapSettings shadowmap_settings(const io::Light& light, const io::Camera* c
   s.taps = int(p.get(shadow_keys::pcss_taps));
   s.pattern = p.get(shadow_keys::pcss_pattern);
   s.reach = p.get(shadow_keys::reach);
+  s.input_edges = p.get(shadow_keys::input_edges);
   s.rotate = p.get(shadow_keys::rotate);
   s.bias = p.get(shadow_keys::bias);
   s.slope_max = p.get(shadow_keys::slope_max);

@@ -18,6 +18,7 @@ using detail::Geom;
 using detail::kPi;
 using detail::V2;
 using detail::Plane;
+using detail::Shaded;
 using detail::V3;
 
 std::vector<float> shadowmap_taps(int n, const std::string& pattern) {
@@ -66,7 +67,7 @@ std::vector<float> pcss_reference(const ShadowmapInputs& in, const ShadowmapData
   ShadowmapStats st;
   const double k = s.light_radius * map.height / (2.0 * G.tan_y);
   auto out =
-      detail::shade_receivers(G, st, [&](int px, int py, const V3& q, const Plane& g) -> double {
+      detail::shade_receivers(G, st, [&](int px, int py, const V3& q, const Plane& g) -> Shaded {
         double texel_world = 2.0 * q[2] * G.tan_y / map.height;
         double a = s.rotate ? pixel_angle(uint32_t(px), uint32_t(py)) : 0.0;
         double ca = std::cos(a), sa = std::sin(a);
@@ -89,7 +90,7 @@ std::vector<float> pcss_reference(const ShadowmapInputs& in, const ShadowmapData
         }
         if (cnt == 0) {
           ++st.skipped;
-          return 1.0;
+          return {1.0, 0.0};
         }
         double db = sum / double(cnt);
         double rf = k * std::max(1.0 / db - 1.0 / q[2], 0.0);
@@ -110,7 +111,7 @@ std::vector<float> pcss_reference(const ShadowmapInputs& in, const ShadowmapData
               !Geom::reaches(q, c[0], c[1], zm, s.reach * k))
             ++lit;
         }
-        return double(lit) / double(nt);
+        return {double(lit) / double(nt), rf};
       });
   if (stats) *stats = st;
   return out;
@@ -157,6 +158,7 @@ shaders::ShadowmapParams shadowmap_params(const ShadowmapSettings& s, const Shad
   p.depth_eps = float(depth_eps(map));
   p.input_ulps = float(s.depth_ulps);
   p.reach = float(s.reach);
+  p.input_edges = s.input_edges ? 1u : 0u;
   p.has_camera = s.has_camera ? 1u : 0u;
   p.f_px = float(s.f_px);
   p.cx = float(s.window.cx(int(w)));

@@ -16,6 +16,7 @@ namespace isg::effects {
 namespace {
 using detail::Geom;
 using detail::Plane;
+using detail::Shaded;
 using detail::V3;
 
 // What both sides derive from the map and the settings.
@@ -186,7 +187,7 @@ struct VssmRef {
   }
 
   // One pixel inside the map, not back-facing.
-  double shade(int px, int py, const V3& q_in, const Plane& g, ShadowmapStats& st) const {
+  Shaded shade(int px, int py, const V3& q_in, const Plane& g, ShadowmapStats& st) const {
     // A receiver beyond the map's farthest surface (far_z, where the background stands in the
     // SATs and the HSM) is shaded as lying on it: else the background would block it. (A
     // surface at far_z itself then no longer blocks it; the background a quarter farther,
@@ -203,8 +204,8 @@ struct VssmRef {
     const double unbias = s.bias * tw + s.spread_bias * g[2];
     const double base = q[2] - s.bias * tw - s.spread_bias * g[2];
     const auto zr = hsm_range(a, b);
-    if (zr[0] >= base + lim) { ++st.skipped; return 1.0; }
-    if (zr[1] < base - lim) { ++st.skipped; return 0.0; }
+    if (zr[0] >= base + lim) { ++st.skipped; return {1.0, 0.0}; }
+    if (zr[1] < base - lim) { ++st.skipped; return {0.0, 0.0}; }
     double sA = 0, sZ = 0, sZ2 = 0, sT = 0, bPcf = 0, zPcf = 0;
     const int m = s.vssm_m;
     for (int iy = 0; iy < m; ++iy)
@@ -240,7 +241,7 @@ struct VssmRef {
         }
       }
     }
-    if (bVsm + bPcf <= 0) { ++st.skipped; return 1.0; }
+    if (bVsm + bPcf <= 0) { ++st.skipped; return {1.0, 0.0}; }
     const double zavg = std::clamp((zVsm + zPcf) / (bVsm + bPcf), G.map.min_depth, q[2]);
     double rf = k * std::max(1.0 / zavg - 1.0 / q[2], 0.0);
     if (rf > s.max_radius) { rf = s.max_radius; ++st.clamped; }
@@ -249,7 +250,7 @@ struct VssmRef {
       ++st.contact;
       double nb, zb;
       square(q, std::max(rf, 1.0), a, b);
-      return pcf(a, b, 3, q, g, tw, s.reach * k, nb, zb);
+      return {pcf(a, b, 3, q, g, tw, s.reach * k, nb, zb), rf};
     }
     double lA = 0, uA = 0, pA = 0, pLit = 0;
     sA = sZ = sZ2 = sT = 0;
@@ -300,7 +301,7 @@ struct VssmRef {
       const double mu = sZ / sA, t = sT / sA, var = variance(mu, sZ2 / sA);
       if (mu < t) L = var / (var + (t - mu) * (t - mu));
     }
-    return (L * sA + lA + pLit) / (sA + lA + uA + pA);
+    return {(L * sA + lA + pLit) / (sA + lA + uA + pA), rf};
   }
 };
 
