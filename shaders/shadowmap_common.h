@@ -160,20 +160,18 @@ float sm_fetch(vec2 c) {
   return sm_map(uint(c.y) * p.map_w + uint(c.x));
 }
 
-// Every method's last step (shadows.input_edges, issue 19): a map texel places a shadow edge only
-// to within itself (8 cm on a floor lit at 8 degrees by a 1024² map), the renderer's ray-traced
-// L.shadow exactly. The filtered visibility s moves by the input's hard verdict minus the map's
-// own at the receiver's texel, weighted by that texel's share of the filter's disk,
-// min(1, 1/(π rf²)) (rf: the filter's radius in texels; 0 where the map's verdict stood alone, a
-// lit or umbra region or no blocker found): all of it where the filter is narrower than a
-// texel, 1/(π rf²) of it, fading, as the filter widens. Where L.shadow came from this map
-// (shadows.derive) the two verdicts agree and nothing moves; the host then turns it off.
-float sm_input_edges(float s, float hard_in, vec3 q, vec4 g, float rf) {
-  if (p.input_edges == 0u) return s;
-  vec2 c = floor(q.xy) + 0.5;
-  float map_lit = sm_fetch(c) >= sm_threshold(q, g, c, 2.0 * q.z * p.tan_y / float(p.map_h)) ? 1.0 : 0.0;
-  float share = 1.0 / max(3.14159265358979 * rf * rf, 1.0);
-  return clamp(s + share * (hard_in - map_lit), 0.0, 1.0);
+// Every method's last step (shadows.input_edges, issue 19): a map texel places a shadow's edge
+// only to within itself (8 cm on a floor lit at 8 degrees by a 1024² map), and a narrow penumbra
+// filtered from it inherits that and the receiver plane's bias near contact; the renderer's
+// ray-traced L.shadow places the edge exactly. Where the penumbra's radius rf (texels) is within
+// r0 = shadows.input_edges texels the input's hard shadow stands; beyond, it weighs (r0/rf)², the
+// filtered visibility the rest. rf = 0 where the map's verdict stood alone (a lit or umbra region,
+// no blocker found): there too the input's L.shadow stands.
+float sm_input_edges(float s, float hard_in, float rf) {
+  float r0 = p.input_edges;
+  if (r0 <= 0.0) return s;
+  float w = rf <= r0 ? 1.0 : (r0 / rf) * (r0 / rf);
+  return clamp(mix(s, hard_in, w), 0.0, 1.0);
 }
 
 #endif

@@ -205,7 +205,7 @@ void main() {
   float s_f = cssm_filtered(q, g, texel_world, hs, d, false);
   if (cssm_suppress(s_f) >= 1.0 || 1.0 - s_f < 1e-3) {
     atomicAdd(stats[SHADOWMAP_STAT_SKIPPED], 1u);  // no blockers: fully lit
-    soft[i] = sm_input_edges(1.0, hard[i], q, g, 0.0);
+    soft[i] = sm_input_edges(1.0, hard[i], 0.0);
     return;
   }
   float num = cssm_filtered(q, g, texel_world, hs, d, true);  // CSM-Z (eq. 5.11)
@@ -216,5 +216,5 @@ void main() {
   if (rf > p.max_radius) { rf = p.max_radius; atomicAdd(stats[SHADOWMAP_STAT_CLAMPED], 1u); }
   float v = cssm_suppress(cssm_filtered(q, g, texel_world, max(0.886226925 * rf, 0.5), d, false));
   float pw = 1.0 + c.sharpen_a * exp(-c.sharpen_b * (d - z_avg));  // eq. 5.9
-  soft[i] = sm_input_edges(pow(v, pw), hard[i], q, g, rf);
+  soft[i] = sm_input_edges(pow(v, pw), hard[i], rf);
 }

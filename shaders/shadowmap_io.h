@@ -50,7 +50,7 @@ struct ShadowmapParams {
   float far_clip;  // the map's far plane: receivers beyond it are outside the map
   float input_ulps;
   float reach;  // shadows.reach: pcss's and vssm's filter taps (0: off)
-  uint input_edges;  // shadows.input_edges: L.shadow places the edges a filter cannot (sm_input_edges)
+  float input_edges;  // shadows.input_edges, texels (0: off): L.shadow's weight (sm_input_edges)
 };
 // The map's precision: this many times its measured depth noise (ShadowmapData::noise, the
 // deviation of independent per-texel noise; a float32 step is about 2.4 of it).

@@ -5,7 +5,7 @@
 // depth could shadow the receiver from, then PCF over the penumbra width
 // w = (d_receiver − d_blocker)·w_light/d_blocker, in map texels at the receiver's depth; the
 // filter's blockers only those the light's cone from the receiver reaches (sm_reaches); the
-// input's L.shadow where the filter is narrower than the map resolves (sm_input_edges).
+// input's L.shadow where the penumbra is a few texels or narrower (sm_input_edges).
 layout(local_size_x = SHADOWMAP_LOCAL, local_size_y = SHADOWMAP_LOCAL) in;
 layout(std430, binding = 0) readonly buffer Prm { ShadowmapParams p_in; };
 ShadowmapParams p;  // p_in, copied once at the top of main
@@ -48,7 +48,7 @@ void main() {
   }
   if (cnt == 0u) {
     atomicAdd(stats[SHADOWMAP_STAT_SKIPPED], 1u);
-    soft[i] = sm_input_edges(1.0, texelFetch(hard, int(i)).r, q, g, 0.0);
+    soft[i] = sm_input_edges(1.0, texelFetch(hard, int(i)).r, 0.0);
     return;
   }
   float db = sum / float(cnt);
@@ -61,5 +61,5 @@ void main() {
     float zm = sm_fetch(c);
     if (zm >= sm_threshold(q, g, c, texel_world) || !sm_reaches(q, c, zm, p.reach * k)) ++lit;
   }
-  soft[i] = sm_input_edges(float(lit) / float(p.taps), texelFetch(hard, int(i)).r, q, g, rf);
+  soft[i] = sm_input_edges(float(lit) / float(p.taps), texelFetch(hard, int(i)).r, rf);
 }

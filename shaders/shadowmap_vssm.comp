@@ -167,7 +167,6 @@ void main() {
   if (back) { atomicAdd(stats[SHADOWMAP_STAT_SKIPPED], 1u); soft[i] = texelFetch(hard, int(i)).r; return; }
   // A receiver beyond the map's farthest surface (far_z, where the background stands in the
   // SATs and the HSM) is shaded as lying on it: else the background would block it (vssm.cpp).
-  vec3 q_in = q;  // sm_input_edges: the receiver where it is
   float h_in = texelFetch(hard, int(i)).r;
   q.z = min(q.z, v.far_z);
   float tw = 2.0 * q.z * p.tan_y / float(p.map_h);
@@ -182,8 +181,8 @@ void main() {
   float unbias = p.bias * tw + p.spread_bias * g.z;
   float base = q.z - p.bias * tw - p.spread_bias * g.z;
   vec2 zr = hsm_range(a, b);
-  if (zr.x >= base + lim) { atomicAdd(stats[SHADOWMAP_STAT_SKIPPED], 1u); soft[i] = sm_input_edges(1.0, h_in, q_in, g, 0.0); return; }
-  if (zr.y < base - lim) { atomicAdd(stats[SHADOWMAP_STAT_SKIPPED], 1u); soft[i] = sm_input_edges(0.0, h_in, q_in, g, 0.0); return; }
+  if (zr.x >= base + lim) { atomicAdd(stats[SHADOWMAP_STAT_SKIPPED], 1u); soft[i] = sm_input_edges(1.0, h_in, 0.0); return; }
+  if (zr.y < base - lim) { atomicAdd(stats[SHADOWMAP_STAT_SKIPPED], 1u); soft[i] = sm_input_edges(0.0, h_in, 0.0); return; }
 
   // Blocker search (Algorithm 2, L11-L15): the whole kernel when it is planar (its mean depth
   // in front of the receiver), else m x m sub-kernels (§7.4.2).
@@ -223,7 +222,7 @@ void main() {
       }
     }
   }
-  if (bVsm + bPcf <= 0.0) { atomicAdd(stats[SHADOWMAP_STAT_SKIPPED], 1u); soft[i] = sm_input_edges(1.0, h_in, q_in, g, 0.0); return; }
+  if (bVsm + bPcf <= 0.0) { atomicAdd(stats[SHADOWMAP_STAT_SKIPPED], 1u); soft[i] = sm_input_edges(1.0, h_in, 0.0); return; }
   float zavg = clamp((zVsm + zPcf) / (bVsm + bPcf), p.min_depth, q.z);
   float rf = k * max(1.0 / zavg - 1.0 / q.z, 0.0);
   if (rf > p.max_radius) { rf = p.max_radius; atomicAdd(stats[SHADOWMAP_STAT_CLAMPED], 1u); }
@@ -235,7 +234,7 @@ void main() {
     atomicAdd(stats[SHADOWMAP_STAT_CONTACT], 1u);
     float nb, zb;
     square(q, max(rf, 1.0), a, b);
-    soft[i] = sm_input_edges(pcf(a, b, 3u, q, g, tw, p.reach * k, nb, zb), h_in, q_in, g, rf);
+    soft[i] = sm_input_edges(pcf(a, b, 3u, q, g, tw, p.reach * k, nb, zb), h_in, rf);
     return;
   }
   // The filter kernel as a quad-tree of height H, traversed linearly (Algorithm 3): a node is
@@ -292,5 +291,5 @@ void main() {
     float mu = sZ / sA, t = sT / sA, var = variance(mu, sZ2 / sA);
     if (mu < t) L = var / (var + (t - mu) * (t - mu));
   }
-  soft[i] = sm_input_edges((L * sA + lA + pLit) / (sA + lA + uA + pA), h_in, q_in, g, rf);  // L29-L32
+  soft[i] = sm_input_edges((L * sA + lA + pLit) / (sA + lA + uA + pA), h_in, rf);  // L29-L32
 }

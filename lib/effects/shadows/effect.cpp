@@ -72,11 +72,10 @@ class Shadows final : public Effect {
        "within this many times the reach of the light's cone from the pixel at the texel's depth "
        "(plus 1.5 texels): a floor in front of a ramp lit at grazing no longer darkens it; 0: "
        "every such texel, as the thesis (PCSS §2.4.2, VSSM's PCF §7.4.2)"),
-      params::def(shadow_keys::input_edges, "true",
-       "pcss, vssm, cssm: where the filter is narrower than the map resolves, the input's "
-       "ray-traced L.shadow places the shadow's edges: the result moves by its verdict minus the "
-       "map's at the receiver, times the receiver texel's share of the filter's disk, "
-       "min(1, 1/(pi r^2)) for a filter r texels wide; false: the map's verdict alone"),
+      params::def(shadow_keys::input_edges, "2", 0, 1e3,
+       "pcss, vssm, cssm: where the penumbra's radius is within this many shadow-map texels the "
+       "input's ray-traced L.shadow stands (a map texel places an edge only to within itself); "
+       "beyond, it weighs (this / radius)^2 against the filtered map; 0: the map alone", "texels"),
       params::def(shadow_keys::bias, "2", 0, 100,
        "shadow-map methods: constant depth bias, in shadow-map texel footprints at the "
        "receiver, on top of the receiver-plane depth (fitted from the screen neighbours)",
@@ -247,7 +246,7 @@ class Shadows final : public Effect {
         if (st.runs) {
           inst->smap = shadowmap_settings(*light, cam, c.scene.scene_radius, p, method, c.view_h());
           // Without the input's own L.shadow there is no second verdict to place edges with.
-          inst->smap->input_edges = inst->smap->input_edges && roles.has(l + ".shadow");
+          if (!roles.has(l + ".shadow")) inst->smap->input_edges = 0.0;
         }
       } else {
         st.runs = true;

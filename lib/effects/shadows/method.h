@@ -158,15 +158,13 @@ struct Geom {
   double fetch(double cx, double cy) const {
     return map.z[size_t(cy) * size_t(map.width) + size_t(cx)];
   }
-  // shadows.input_edges (sm_input_edges): v moved by the input's hard verdict minus the map's at
-  // the receiver's texel, times that texel's share of a filter rf texels wide, min(1, 1/(π rf²)).
-  double input_edges(double v, double hard_in, const V3& q, const Plane& g, double rf) const {
-    if (!s.input_edges) return v;
-    const double cx = std::floor(q[0]) + 0.5, cy = std::floor(q[1]) + 0.5;
-    const double tw = double(float(2.0 * q[2] * tan_y / map.height));
-    const double map_lit = fetch(cx, cy) >= threshold(q, g, cx, cy, tw) ? 1.0 : 0.0;
-    const double share = 1.0 / std::max(kPi * rf * rf, 1.0);
-    return std::clamp(v + share * (hard_in - map_lit), 0.0, 1.0);
+  // shadows.input_edges (sm_input_edges): the input's L.shadow where the penumbra's radius rf is
+  // within r0 texels, weighing (r0/rf)² beyond.
+  double input_edges(double v, double hard_in, double rf) const {
+    const double r0 = double(float(s.input_edges));
+    if (r0 <= 0.0) return v;
+    const double w = rf <= r0 ? 1.0 : (r0 / rf) * (r0 / rf);
+    return std::clamp(v + w * (hard_in - v), 0.0, 1.0);
   }
 };
 
@@ -197,7 +195,7 @@ std::vector<float> shade_receivers(const Geom& G, ShadowmapStats& st, Shade&& sh
       const Plane g = G.receiver_plane(px, py, q, P, back);
       if (back) { ++st.skipped; continue; }
       const Shaded r = shade(px, py, q, g);
-      out[i] = float(G.input_edges(r.s, double(in.hard[i]), q, g, r.rf));
+      out[i] = float(G.input_edges(r.s, double(in.hard[i]), r.rf));
     }
   return out;
 }

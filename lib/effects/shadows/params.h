@@ -17,7 +17,7 @@ inline constexpr params::Flag tile_skip{"shadows.tile_skip"};
 inline constexpr params::Int pcss_taps{"shadows.pcss_taps"};
 inline constexpr params::Choice pcss_pattern{"shadows.pcss_pattern"};
 inline constexpr params::Number reach{"shadows.reach"};
-inline constexpr params::Flag input_edges{"shadows.input_edges"};
+inline constexpr params::Number input_edges{"shadows.input_edges"};
 inline constexpr params::Number bias{"shadows.bias"};
 inline constexpr params::Number slope_max{"shadows.slope_max"};
 inline constexpr params::Number spread_bias{"shadows.spread_bias"};

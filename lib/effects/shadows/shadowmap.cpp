@@ -158,7 +158,7 @@ shaders::ShadowmapParams shadowmap_params(const ShadowmapSettings& s, const Shad
   p.depth_eps = float(depth_eps(map));
   p.input_ulps = float(s.depth_ulps);
   p.reach = float(s.reach);
-  p.input_edges = s.input_edges ? 1u : 0u;
+  p.input_edges = float(s.input_edges);
   p.has_camera = s.has_camera ? 1u : 0u;
   p.f_px = float(s.f_px);
   p.cx = float(s.window.cx(int(w)));
