@@ -243,11 +243,7 @@ class Shadows final : public Effect {
           why = "no camera (scene file, or worldToCamera/worldToNDC in the header) to place Z";
         st.why = why;
         st.runs = why.empty();
-        if (st.runs) {
-          inst->smap = shadowmap_settings(*light, cam, c.scene.scene_radius, p, method, c.view_h());
-          // Without the input's own L.shadow there is no second verdict to place edges with.
-          if (!roles.has(l + ".shadow")) inst->smap->input_edges = 0.0;
-        }
+        if (st.runs) inst->smap = shadowmap_settings(*light, cam, c.scene.scene_radius, p, method, c.view_h());
       } else {
         st.runs = true;
       }

@@ -68,7 +68,7 @@ struct ShadowmapSettings {
   int taps = 32;                          // shadows.pcss_taps
   std::string pattern = "stratified";     // shadows.pcss_pattern: stratified | poisson
   double reach = 2.0;                     // shadows.reach: pcss's and vssm's filter taps (0: off)
-  double input_edges = 2.0;               // shadows.input_edges, texels (0 where there is no L.shadow)
+  double input_edges = 2.0;               // shadows.input_edges, texels (0: off)
   bool rotate = true;                     // shadows.rotate
   double bias = 2.0;                      // shadows.bias, receiver texel footprints
   double slope_max = 4.0;                 // shadows.slope_max
