@@ -170,6 +170,13 @@ TEST_F(ShadowmapGpu, MapMethodsKeepARampOverAGrazingFloorLit) {
                   method.c_str(), s.reach, dark[r], band, mean[r], dark_floor, bad, md);
       EXPECT_EQ(st.pixels, n) << method;
       EXPECT_LE(bad, n / 100) << method << " " << s.reach;
+      // Where they differ (the first few), for the device at hand.
+      for (size_t i = 0, k = 0; bad > n / 100 && i < n && k < 16; ++i) {
+        if (std::abs(double(got[i]) - want[i]) <= 1e-3) continue;
+        std::printf("  (%zu, %zu) x %.4f: GPU %.4f reference %.4f\n", i % size_t(w), i / size_t(w),
+                    double(in.position[i]), double(got[i]), double(want[i]));
+        ++k;
+      }
     }
     EXPECT_LE(dark[1], 0.02) << method;
     EXPECT_LE(mean[1], 0.5 * mean[0]) << method;

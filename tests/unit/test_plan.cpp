@@ -146,12 +146,18 @@ TEST(Plan, AutoShadowMethodPicksPcssOrIsgFromThePixels) {
     EXPECT_EQ(auto_status(overhead, m).why, "") << m;
   }
 
+  // Far from the origin: isg once float32 positions step by more than a map texel there, pcss
+  // under it.
   AutoFloor far;
-  far.ox = far.oy = 1e5;
+  far.ox = far.oy = 1e6;
   st = auto_status(far);
   std::printf("far: %s (%s)\n", st.method.c_str(), st.why.c_str());
   EXPECT_EQ(st.method, "isg");
   EXPECT_NE(st.why.find("world origin"), std::string::npos);
+  far.ox = far.oy = 1e4;
+  st = auto_status(far);
+  std::printf("1e4 from the origin: %s (%s)\n", st.method.c_str(), st.why.c_str());
+  EXPECT_EQ(st.method, "pcss");
 
   // Without a camera isg cannot run (its radii are in pixels); pcss with P can.
   AutoFloor no_camera;
