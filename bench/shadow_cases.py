@@ -78,7 +78,10 @@ def measure(t, label, case, methods):
             key = f"{m}-{inp}"
             out = os.path.join(keep, f"{key}.exr") if keep else None
             try:
-                r = run_isg(t, case, [f"shadows.method={m}", "reflections.method=none", "dof.method=none"] + a.set,
+                # From P: P's positions as they are (input.positions=P), but for auto, which keeps
+                # every default (input.positions=auto too: Z where P's float32 step is coarse).
+                pos = ["input.positions=P"] if inp == "P" and m != "auto" else []
+                r = run_isg(t, case, [f"shadows.method={m}", "reflections.method=none", "dof.method=none"] + pos + a.set,
                             out=out, aovs=aovs)
             except subprocess.CalledProcessError as e:  # a failed run is a result too
                 res["failed"][key] = ((e.stderr or "").strip().splitlines() or ["?"])[-1]
@@ -122,7 +125,9 @@ def report(res):
          "(`tools/cases/`, rendered outside the repository; see tools/cases/README.md). Number: RMSE of "
          "`key.softshadow` against the reference's `key.softshadow` over its `mask`, divided by the RMSE of doing "
          "nothing (the input's hard `key.shadow`); below 1 is better than doing nothing, **bold** is not. "
-         "P: positions from the P channels; Z: the same AOVs without P, positions formed from Z and the camera. "
+         "P: positions from the P channels (`input.positions=P`); Z: the same AOVs without P, positions formed "
+         "from Z and the camera. auto P keeps every default, `input.positions=auto` too (Z where P's float32 step "
+         "is wider than a pixel at a scene radius from the camera, here at 1e6 m from the origin). "
          "Default settings of every method; reflections and depth of field off.", "",
          f"Machine: {res['machine']}; device: {res.get('device', '?')}.", "",
          "| case | hard RMSE | " + " | ".join(f"{m} P | {m} Z" for m in methods) + " |",

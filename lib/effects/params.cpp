@@ -10,11 +10,11 @@ std::vector<params::Def> output_params() {
       params::def(output_keys::compression, "zip",
        {"none", "rle", "zip", "zips", "piz", "pxr24", "b44", "b44a", "dwaa", "dwab"},
        "EXR compression of the output"),
-      params::def(output_keys::positions, "P", {"P", "Z", "auto"},
+      params::def(output_keys::positions, "auto", {"P", "Z", "auto"},
        "where positions come from: P as the renderer wrote it (consistent with a shadow map the "
        "renderer computed in the same float32 world), or Z and the camera; auto takes Z where "
-       "P's float32 step is over 64x Z's (the camera more than 64 scene diameters from the "
-       "world origin), for maps that are exact where P is not"),
+       "P's float32 step is wider than a pixel at a scene radius from the camera (far from the "
+       "world origin: 6 cm a step at 1e6 m), P elsewhere"),
       params::def(output_keys::max_megapixels, "268.5", 0.001, 4096,
        "largest input image accepted, checked before decoding", "megapixels"),
       params::def(output_keys::max_channels, "1024", 1, 65536,
