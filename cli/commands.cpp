@@ -202,7 +202,7 @@ int cmd_devices() {
     std::cout << d.index << ": " << d.name << " (" << d.type_name << ", Vulkan "
               << VK_API_VERSION_MAJOR(d.api_version) << "." << VK_API_VERSION_MINOR(d.api_version)
               << ", " << (d.device_local_bytes >> 20) << " MiB, timestamps "
-              << (d.timestamps ? "yes" : "no") << ")\n";
+              << (d.timestamps ? "yes" : "no") << ", float64 " << (d.float64 ? "yes" : "no") << ")\n";
   }
   if (devs.empty()) std::cout << "no Vulkan devices\n";
   return 0;

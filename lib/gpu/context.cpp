@@ -102,6 +102,9 @@ DeviceInfo describe(VkPhysicalDevice pd, uint32_t index) {
   bool ts = false;
   compute_family(pd, &ts);
   d.timestamps = ts && p.limits.timestampComputeAndGraphics;
+  VkPhysicalDeviceFeatures f{};
+  vkGetPhysicalDeviceFeatures(pd, &f);
+  d.float64 = f.shaderFloat64 == VK_TRUE;
   return d;
 }
 
@@ -211,6 +214,7 @@ Context::Context(const ContextOptions& opt) : user_callback_(opt.on_message) {
     }
     if (chosen < 0) throw GpuError("no Vulkan device with a compute queue");
     info_ = infos[chosen];
+    info_.float64 = info_.float64 && opt.float64;
     physical_ = pds[chosen];
     if (opt.require_gpu && info_.type == VK_PHYSICAL_DEVICE_TYPE_CPU) {
       throw GpuError("--require-gpu: the only usable device is a CPU implementation (" +
@@ -229,6 +233,9 @@ Context::Context(const ContextOptions& opt) : user_callback_(opt.on_message) {
     VkDeviceCreateInfo di{VK_STRUCTURE_TYPE_DEVICE_CREATE_INFO};
     di.queueCreateInfoCount = 1;
     di.pQueueCreateInfos = &qi;
+    VkPhysicalDeviceFeatures features{};
+    features.shaderFloat64 = info_.float64 ? VK_TRUE : VK_FALSE;
+    di.pEnabledFeatures = &features;
     check(vkCreateDevice(physical_, &di, nullptr, &device_), "vkCreateDevice");
     vkGetDeviceQueue(device_, queue_family_, 0, &queue_);
 

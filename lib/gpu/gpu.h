@@ -35,6 +35,7 @@ struct DeviceInfo {
   uint32_t max_image_dimension_2d = 0;
   uint64_t device_local_bytes = 0;
   bool timestamps = false;
+  bool float64 = false;  // shaderFloat64, enabled where present (VSSM's moments use it)
 };
 
 struct ContextOptions {
@@ -43,6 +44,7 @@ struct ContextOptions {
   std::string device;
   bool require_gpu = false;  // fail when the chosen device is a CPU implementation
   bool validation = false;   // Khronos validation layer + debug messenger
+  bool float64 = true;       // use shaderFloat64 where the device has it (false: as if it had not)
   // Called for every validation/debug message (severity >= warning). The context counts
   // them too: tests fail on any.
   std::function<void(const std::string&)> on_message;

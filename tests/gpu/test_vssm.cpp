@@ -74,6 +74,32 @@ TEST_F(Vssm, MatchesDoubleReference) {
   }
 }
 
+// A device without shaderFloat64 runs the moments in float (shadowmap_vssm.comp): the same cases
+// against the same double reference, on a context that does not use float64 (validation on).
+TEST_F(Vssm, FloatMomentsMatchDoubleReference) {
+  isg::gpu::ContextOptions o;
+  o.validation = true;
+  o.float64 = false;
+  isg::gpu::Context fctx(o);
+  ASSERT_FALSE(fctx.info().float64);
+  for (double slope : {0.0, 0.6}) {
+    Planes pl;
+    pl.slope = slope;
+    const auto map = pl.shadowmap();
+    const auto in = pl.inputs();
+    const auto s = vssm(pl, 5, 3, 4);
+    const auto want = fx::vssm_reference(in, map, s, nullptr);
+    const auto got = isg::test::run_gpu(fctx, in, map, s, nullptr);
+    double md;
+    const size_t bad = isg::test::mismatches(got, want, &md);
+    std::printf("vssm in float, slope %.1f: %zu of %zu pixels differ by more than 1e-3 (max %.4f)\n",
+                slope, bad, want.size(), md);
+    EXPECT_LE(bad, want.size() / 200);
+  }
+  for (const auto& m : fctx.messages()) ADD_FAILURE() << "Vulkan validation: " << m;
+  EXPECT_EQ(fctx.message_count(), 0u);
+}
+
 // Parallel planes: one blocker depth, one receiver depth, the configuration Chebyshev's bound
 // (eq. 7.1) and eq. 7.4 are exact for; what is left is the square kernel against the round
 // light and the map's texels.

@@ -26,8 +26,17 @@ SatFixedPoint sat_fixed_point(const std::vector<float>& z, int power, double far
   fp.offset = z.empty() ? 0.0 : sum / double(z.size());
   // float(offset) is what the shader subtracts; leave room for its rounding and float's.
   const double dev = std::max({hi - fp.offset, fp.offset - lo, 1e-30});
-  fp.scale = std::ldexp(1.0, 30) / (dev * 1.001);
+  // A power of two: the shader's float copy of it is exact, so a texel's quantized value and the
+  // sums the shaders rebuild from it are the reference's (VSSM's variance in double).
+  fp.scale = std::ldexp(1.0, 30 - std::ilogb(dev * 1.001) - 1);
   return fp;
+}
+
+int64_t sat_quantize(float z, const SatFixedPoint& fp) {
+  const float v = std::min(z, float(std::min(fp.far_z, 1e30))) - float(fp.shift);
+  const float w = fp.power == 2 ? v * v : v;
+  const float d = (w - float(fp.offset)) * float(fp.scale);
+  return int64_t(std::floor(d + 0.5f));
 }
 
 double sat_rect_sum(const std::vector<int64_t>& sat, int w, int x0, int y0, int x1, int y1,

@@ -23,6 +23,11 @@ struct SatFixedPoint {
 SatFixedPoint sat_fixed_point(const std::vector<float>& z, int power, double far_z,
                               double shift = 0.0);
 
+// One texel's integer as shaders/sat_quantize.comp makes it, in the same float arithmetic (its
+// parameters as the float push constants carry them): (min(z, far) − shift)^power, less the
+// offset, times the scale, rounded.
+int64_t sat_quantize(float z, const SatFixedPoint& fp);
+
 // Rectangle sum [x0, x1) x [y0, y1) of a table of int64 (row-major, inclusive prefix sums), in
 // value units (offset added back).
 double sat_rect_sum(const std::vector<int64_t>& sat, int w, int x0, int y0, int x1, int y1,

@@ -8,6 +8,7 @@
 #include "effects/shadows/sat.h"
 #include "isg/shaders/shadowmap_hsm.spv.h"
 #include "isg/shaders/shadowmap_vssm.spv.h"
+#include "isg/shaders/shadowmap_vssm64.spv.h"
 #include "shadowmap_io.h"
 #include "shadowmap_vssm_io.h"
 
@@ -83,14 +84,18 @@ struct VssmRef {
             }
           hsm[v.level_off[L] + size_t(y) * v.level_w[L] + x] = r;
         }
+    // The SATs of z and (z − z0)² as the GPU builds them: each texel's fixed-point integer
+    // (sat_quantize, float arithmetic as in the shader), worth q / scale + offset.
+    const SatFixedPoint f1 = sat_fixed_point(G.map.z, 1, v.far_z);
+    const SatFixedPoint f2 = sat_fixed_point(G.map.z, 2, v.far_z, v.z0);
     s1.assign(size_t(W + 1) * (Hh + 1), 0.0);
     s2 = s1;
     for (int y = 0; y < Hh; ++y) {
       double r1 = 0, r2 = 0;
       for (int x = 0; x < W; ++x) {
-        const double z = std::min(double(G.map.z[size_t(y) * W + x]), v.far_z);
-        r1 += z;
-        r2 += (z - v.z0) * (z - v.z0);
+        const float z = G.map.z[size_t(y) * W + x];
+        r1 += double(sat_quantize(z, f1)) / f1.scale + double(float(f1.offset));
+        r2 += double(sat_quantize(z, f2)) / f2.scale + double(float(f2.offset));
         s1[size_t(y + 1) * (W + 1) + x + 1] = s1[size_t(y) * (W + 1) + x + 1] + r1;
         s2[size_t(y + 1) * (W + 1) + x + 1] = s2[size_t(y) * (W + 1) + x + 1] + r2;
       }
@@ -336,7 +341,10 @@ class Vssm final : public detail::ShadowmapMethod {
        uint32_t h, bool has_position)
       : hsm_k_(ctx, "shadows.vssm.hsm", isg_spv_shadowmap_hsm, {gpu::Slot::buffer, gpu::Slot::buffer},
                sizeof(shaders::HsmPush), HSM_LOCAL, HSM_LOCAL),
-        shade_k_(ctx, "shadows.vssm", isg_spv_shadowmap_vssm,
+        // The moments in double where the device can (shadowmap_vssm.glsl's VSSM_REAL).
+        shade_k_(ctx, "shadows.vssm",
+                 ctx.info().float64 ? std::span<const uint32_t>(isg_spv_shadowmap_vssm64)
+                                    : std::span<const uint32_t>(isg_spv_shadowmap_vssm),
                  {gpu::Slot::buffer, gpu::Slot::texels, gpu::Slot::texels, gpu::Slot::texels,
                   gpu::Slot::texels, gpu::Slot::buffer, gpu::Slot::texels, gpu::Slot::texels,
                   gpu::Slot::texels, gpu::Slot::buffer, gpu::Slot::buffer},

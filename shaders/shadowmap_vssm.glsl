@@ -1,0 +1,314 @@
+// The body of shaders/shadowmap_vssm.comp and shadowmap_vssm64.comp (included after #version).
+#include "shadowmap_io.h"
+#include "shadowmap_vssm_io.h"
+// VSSM_REAL: the type of the moments' arithmetic. A sub-kernel's variance is E((z − z0)²) minus
+// (E(z) − z0)², two numbers of the order of (depth − the map's mean depth)² whose difference
+// decides against vssm.flat_var (1e-4 of the scene radius) whether it is planar. In float that
+// difference is rounding (depths near 8 with z0 44: E((z − z0)²) = 1271, a float step 1.2e-4),
+// and lavapipe and an NVIDIA H200 each took their own branches there (grazing ramp test: GPU
+// against reference up to 0.10 apart on the H200). Where the device has shaderFloat64 the moments
+// are summed and subtracted in double (shadowmap_vssm64.comp), as the reference does, from the
+// SATs' exact integer sums and power-of-two scales (sat_fixed_point); else in float
+// (shadowmap_vssm.comp).
+#ifndef VSSM_REAL
+#define VSSM_REAL float
+#endif
+#define R VSSM_REAL
+// Variance soft shadow maps (thesis ch. 7, Algorithm 2): the min-max HSM proves pixels fully
+// lit or in umbra (§7.5.1); the blocker search's kernel, split into m x m sub-kernels, gives
+// the mean blocker depth by eq. 7.4 (planar sub-kernels, Chebyshev eq. 7.1 on the pooled
+// moments of eq. 7.5) and PCF (non-planar ones, §7.4.2); the filter kernel is traversed as a
+// quad-tree of height H without a stack (Algorithm 3); near contact a 3x3 PCF (§7.5.4). A
+// sub-kernel counts as planar only where the receiver's threshold is flat across it
+// (threshold_flat): else it is split, or filtered by PCF at the tree's leaves. The filter's PCF
+// taps count only blockers the light's cone from the receiver reaches (sm_reaches, issue 19).
+// lib/effects/shadows/vssm.cpp holds the double mirror.
+layout(local_size_x = SHADOWMAP_LOCAL, local_size_y = SHADOWMAP_LOCAL) in;
+layout(std430, binding = 0) readonly buffer Prm { ShadowmapParams p_in; };
+ShadowmapParams p;  // p_in, copied once at the top of main
+layout(binding = 1) uniform samplerBuffer geo;
+layout(binding = 2) uniform samplerBuffer fg_in;
+layout(binding = 3) uniform samplerBuffer hard;
+layout(binding = 4) uniform samplerBuffer smap;
+layout(std430, binding = 5) readonly buffer Vprm { VssmParams v; };
+layout(binding = 6) uniform samplerBuffer hsm;
+layout(binding = 7) uniform usamplerBuffer sat1;
+layout(binding = 8) uniform usamplerBuffer sat2;
+layout(std430, binding = 9) writeonly buffer Soft { float soft[]; };
+layout(std430, binding = 10) buffer Stats { uint stats[]; };
+layout(push_constant) uniform Push { ShadowmapPush pc; };
+#include "shadowmap_common.h"
+
+// Min and max depth over the texels a rectangle [lo, hi) touches: the HSM level whose texels
+// are at least as large as it, where it spans at most 2x2 of them.
+vec2 hsm_range(vec2 flo, vec2 fhi) {
+  ivec2 lo = ivec2(floor(flo)), hi = max(ivec2(ceil(fhi)), lo + 1);
+  int size = max(hi.x - lo.x, hi.y - lo.y);
+  uint L = 0u;
+  while ((1 << L) < size && L + 1u < v.levels) ++L;
+  ivec2 a = lo >> L, b = (hi - 1) >> L;
+  vec2 r = vec2(1e30, -1e30);
+  for (int y = a.y; y <= b.y; ++y)
+    for (int x = a.x; x <= b.x; ++x) {
+      vec2 c = L == 0u ? vec2(min(texelFetch(smap, int(uint(y) * p.map_w + uint(x))).r, v.far_z))
+                       : texelFetch(hsm, int(v.level_off[L] + uint(y) * v.level_w[L] + uint(x))).xy;
+      r = vec2(min(r.x, c.x), max(r.y, c.y));
+    }
+  return r;
+}
+
+uvec2 sub64(uvec2 a, uvec2 b) {
+  uint borrow;
+  uint lo = usubBorrow(a.x, b.x, borrow);
+  return uvec2(lo, a.y - b.y - borrow);
+}
+uvec2 add64(uvec2 a, uvec2 b) {
+  uint carry;
+  uint lo = uaddCarry(a.x, b.x, carry);
+  return uvec2(lo, a.y + b.y + carry);
+}
+uvec2 sat_at(bool second, int x, int y) {
+  if (x <= 0 || y <= 0) return uvec2(0u);
+  uint i = uint(y - 1) * p.map_w + uint(x - 1);
+  return second ? texelFetch(sat2, int(i)).xy : texelFetch(sat1, int(i)).xy;
+}
+// A continuous interval [a, b) of texels as up to three integer runs with weights: the partly
+// covered first texel, the whole ones, the partly covered last one (the box filter of the
+// exact width, wherever it is centred). Run r spans [edge[r], edge[r + 1]).
+int runs(float a, float b, out ivec4 edge, out vec3 wt) {
+  int i0 = int(floor(a)), i1 = int(ceil(b)) - 1;  // first and last texel touched
+  if (i0 >= i1) {
+    edge = ivec4(i0, i0 + 1, 0, 0); wt = vec3(b - a, 0.0, 0.0);
+    return 1;
+  }
+  edge = ivec4(i0, i0 + 1, i1, i1 + 1);
+  wt = vec3(float(i0 + 1) - a, 1.0, b - float(i1));
+  return 3;
+}
+R to_real(uvec2 s) { return R(int(s.y)) * R(4294967296.0) + R(s.x); }
+
+// The moments of one sub-kernel [lo, hi): area T, mean E(z), E((z − z0)²) (ezf: E(z) in float;
+// var: the variance). Both box sums come from the 4 x 4 SAT entries at the runs' edges, each
+// run's rectangle exact in the integers.
+struct Moments { float T; R ez, ez2; float ezf, var; };
+float variance(R ez, R ez2) { return float(max(ez2 - (ez - R(v.z0)) * (ez - R(v.z0)), R(0.0))); }
+Moments moments(vec2 lo, vec2 hi) {
+  ivec4 ex, ey;
+  vec3 wx, wy;
+  int nx = runs(lo.x, hi.x, ex, wx), ny = runs(lo.y, hi.y, ey, wy);
+  uvec2 c1[16], c2[16];
+  for (int j = 0; j <= ny; ++j)
+    for (int i = 0; i <= nx; ++i) {
+      c1[j * 4 + i] = sat_at(false, ex[i], ey[j]);
+      c2[j * 4 + i] = sat_at(true, ex[i], ey[j]);
+    }
+  R s1 = R(0.0), s2 = R(0.0), sw = R(0.0);  // sw: the weights' sum, the area they cover
+  for (int j = 0; j < ny; ++j)
+    for (int i = 0; i < nx; ++i) {
+      int a = j * 4 + i;
+      float w = wx[i] * wy[j];
+      s1 += R(w) * to_real(sub64(add64(c1[a + 5], c1[a]), add64(c1[a + 1], c1[a + 4])));
+      s2 += R(w) * to_real(sub64(add64(c2[a + 5], c2[a]), add64(c2[a + 1], c2[a + 4])));
+      sw += R(w) * R((ex[i + 1] - ex[i]) * (ey[j + 1] - ey[j]));
+    }
+  Moments m;
+  m.T = (hi.x - lo.x) * (hi.y - lo.y);
+  // Divided by the weights' own sum, not by T: the offsets (E(z − z0)² about 1300 on a map from
+  // 8 to 95 m) come back exactly where the two differ by float rounding.
+  m.ez = s1 / (sw * R(v.scale1)) + R(v.off1);
+  m.ez2 = s2 / (sw * R(v.scale2)) + R(v.off2);
+  m.ezf = float(m.ez);
+  m.var = variance(m.ez, m.ez2);
+  return m;
+}
+
+// Cell (ix, iy) of an n x n split of [a, b).
+void cell(vec2 a, vec2 b, int n, int ix, int iy, out vec2 lo, out vec2 hi) {
+  vec2 size = (b - a) / float(n);
+  lo = a + size * vec2(ix, iy);
+  hi = a + size * vec2(ix + 1, iy + 1);
+}
+bool empty(vec2 lo, vec2 hi) { return hi.x - lo.x < 1e-3 || hi.y - lo.y < 1e-3; }
+
+// PCF over a g x g grid in [lo, hi) (each tap the texel under a cell centre): lit fraction;
+// blockers' count and depth sum. kr > 0 (the filter's): blockers only within reach (sm_reaches).
+float pcf(vec2 lo, vec2 hi, uint g, vec3 q, vec4 gr, float tw, float kr, out float nb, out float zb) {
+  nb = 0.0;
+  zb = 0.0;
+  for (uint j = 0u; j < g; ++j)
+    for (uint i = 0u; i < g; ++i) {
+      vec2 c = min(floor(lo + (vec2(i, j) + 0.5) / float(g) * (hi - lo)),
+                   vec2(p.map_w - 1u, p.map_h - 1u)) + 0.5;
+      float z = sm_fetch(c);
+      if (z < sm_threshold(q, gr, c, tw) && sm_reaches(q, c, z, kr)) { nb += 1.0; zb += z; }
+    }
+  return 1.0 - nb / float(g * g);
+}
+
+// The square of half-width r around q, clipped to the map (at least a texel wide).
+void square(vec3 q, float r, out vec2 lo, out vec2 hi) {
+  r = max(r, 0.5);
+  lo = max(q.xy - r, vec2(0.0));
+  hi = min(q.xy + r, vec2(p.map_w, p.map_h));
+}
+
+// Whether the receiver's threshold moves by less than `gap` (the sub-kernel's lead on it,
+// t − E(z)) over [lo, hi) (issue 19). Chebyshev's bound (eq. 7.1) and eq. 7.4 take one threshold
+// for the sub-kernel; where the receiver plane's own depths spread over more than that lead (a
+// floor lit at grazing light, a wide kernel), the lit receiver's spread counts as variance and
+// lets light through the blockers, and eq. 7.4 places them too near the light (own lowlight
+// case: a sphere's umbra came out 0.55 lit). Such sub-kernels are split further or filtered by
+// PCF, which tests each tap against its own threshold.
+bool threshold_flat(vec3 q, vec4 g, vec2 lo, vec2 hi, float tw, float gap) {
+  vec2 tr = sm_threshold_range(q, g, lo, hi, tw);
+  return tr.y - tr.x < gap;
+}
+
+// The HSM's verdict on a sub-kernel: 1 all lit, -1 all blocked, 0 neither.
+int hsm_verdict(vec3 q, vec4 g, vec2 lo, vec2 hi, float tw) {
+  vec2 zr = hsm_range(lo, hi), tr = sm_threshold_range(q, g, lo, hi, tw);
+  return zr.x >= tr.y ? 1 : (zr.y < tr.x ? -1 : 0);
+}
+
+void main() {
+  p = p_in;
+  uvec2 px = gl_GlobalInvocationID.xy;
+  if (px.x >= pc.width || px.y >= pc.height) return;
+  uint i = px.y * pc.width + px.x;
+  if (texelFetch(fg_in, int(i)).r == 0.0) { soft[i] = texelFetch(hard, int(i)).r; return; }
+  vec3 P = sm_rel(i);  // P − light
+  vec3 q = sm_project(P);
+  if (!sm_inside(q)) { soft[i] = texelFetch(hard, int(i)).r; return; }
+  atomicAdd(stats[SHADOWMAP_STAT_PIXELS], 1u);
+  bool back;
+  vec4 g = sm_receiver_plane(px, q, P, back);
+  if (back) { atomicAdd(stats[SHADOWMAP_STAT_SKIPPED], 1u); soft[i] = texelFetch(hard, int(i)).r; return; }
+  // A receiver beyond the map's farthest surface (far_z, where the background stands in the
+  // SATs and the HSM) is shaded as lying on it: else the background would block it (vssm.cpp).
+  float h_in = texelFetch(hard, int(i)).r;
+  q.z = min(q.z, v.far_z);
+  float tw = 2.0 * q.z * p.tan_y / float(p.map_h);
+  float k = p.light_radius * float(p.map_h) / (2.0 * p.tan_y);
+  float rs = min(k * max(1.0 / p.min_depth - 1.0 / q.z, 0.0), p.max_radius);
+  vec2 a, b;
+  square(q, rs, a, b);
+  // HSM (Algorithm 2, L8-L10): bounds of the receiver's threshold over the kernel.
+  float lim = g.w * tw * (rs + 1.0) * 1.5;
+  // The bias decides which sub-kernels hold blockers; Chebyshev's bound (eq. 7.1) and eq. 7.4
+  // take the receiver's own depth (z_unocc = t), where they are exact for two planes.
+  float unbias = p.bias * tw + p.spread_bias * g.z;
+  float base = q.z - p.bias * tw - p.spread_bias * g.z;
+  vec2 zr = hsm_range(a, b);
+  if (zr.x >= base + lim) { atomicAdd(stats[SHADOWMAP_STAT_SKIPPED], 1u); soft[i] = sm_input_edges(1.0, h_in, 0.0); return; }
+  if (zr.y < base - lim) { atomicAdd(stats[SHADOWMAP_STAT_SKIPPED], 1u); soft[i] = sm_input_edges(0.0, h_in, 0.0); return; }
+
+  // Blocker search (Algorithm 2, L11-L15): the whole kernel when it is planar (its mean depth
+  // in front of the receiver), else m x m sub-kernels (§7.4.2).
+  float sA = 0.0, sT = 0.0;  // planar group: area, Σ E(z)T, Σ E(z²)T, Σ t T
+  R sZ = R(0.0), sZ2 = R(0.0);
+  float bPcf = 0.0, zPcf = 0.0;                   // non-planar group: blocker area, Σ z·area
+  int m = int(v.m);
+  for (int iy = 0; iy < m; ++iy)
+    for (int ix = 0; ix < m; ++ix) {
+      vec2 lo, hi;
+      cell(a, b, m, ix, iy, lo, hi);
+      if (empty(lo, hi)) continue;
+      int hv = hsm_verdict(q, g, lo, hi, tw);
+      if (hv > 0) continue;  // no blockers
+      Moments mo = moments(lo, hi);
+      float t = sm_threshold(q, g, 0.5 * (lo + hi), tw);
+      bool flat_t = mo.ezf < t && threshold_flat(q, g, lo, hi, tw, t - mo.ezf);
+      if (hv < 0) {
+        bPcf += mo.T; zPcf += mo.ezf * mo.T;  // all blockers: their mean depth is E(z)
+      } else if (flat_t || (mo.ezf < t && v.leaf_grid == 0u)) {
+        sA += mo.T; sZ += mo.ez * mo.T; sZ2 += mo.ez2 * mo.T; sT += (t + unbias) * mo.T;
+      } else if ((mo.ezf < t || mo.var >= v.flat_var) && v.leaf_grid > 0u) {
+        float nb, zb;
+        pcf(lo, hi, v.leaf_grid, q, g, tw, 0.0, nb, zb);
+        float n = float(v.leaf_grid * v.leaf_grid);
+        bPcf += mo.T * nb / n;
+        zPcf += mo.T * zb / n;
+      }
+    }
+  float bVsm = 0.0, zVsm = 0.0;
+  if (sA > 0.0) {
+    float mu = float(sZ / R(sA)), t = sT / sA, var = variance(sZ / R(sA), sZ2 / R(sA));
+    if (mu < t) {
+      float lit = var / (var + (t - mu) * (t - mu));  // eq. 7.1
+      if (lit < 1.0 - 1e-6) {
+        bVsm = (1.0 - lit) * sA;
+        zVsm = (mu - lit * t) / (1.0 - lit) * bVsm;  // eq. 7.4, z_unocc = t
+      }
+    }
+  }
+  if (bVsm + bPcf <= 0.0) { atomicAdd(stats[SHADOWMAP_STAT_SKIPPED], 1u); soft[i] = sm_input_edges(1.0, h_in, 0.0); return; }
+  float zavg = clamp((zVsm + zPcf) / (bVsm + bPcf), p.min_depth, q.z);
+  float rf = k * max(1.0 / zavg - 1.0 / q.z, 0.0);
+  if (rf > p.max_radius) { rf = p.max_radius; atomicAdd(stats[SHADOWMAP_STAT_CLAMPED], 1u); }
+  // The square kernel of the light disk's area (half-width √π/2 · r; a rect light's
+  // area-equivalent disk).
+  square(q, 0.8862269 * rf, a, b);
+  if (q.z - zavg < v.contact) {
+    // Contact (§7.5.4): the penumbra is narrow and the SAT's precision short: 3x3 PCF.
+    atomicAdd(stats[SHADOWMAP_STAT_CONTACT], 1u);
+    float nb, zb;
+    square(q, max(rf, 1.0), a, b);
+    soft[i] = sm_input_edges(pcf(a, b, 3u, q, g, tw, p.reach * k, nb, zb), h_in, rf);
+    return;
+  }
+  // The filter kernel as a quad-tree of height H, traversed linearly (Algorithm 3): a node is
+  // (level, ix, iy); Next is the next sibling, or the parent's Next after the last one.
+  float lA = 0.0, uA = 0.0, pA = 0.0, pLit = 0.0;
+  sA = 0.0; sZ = R(0.0); sZ2 = R(0.0); sT = 0.0;
+  int level = 0, nx = 0, ny = 0;
+  int H = int(v.tree_h);
+  for (;;) {
+    vec2 lo, hi;
+    cell(a, b, 1 << level, nx, ny, lo, hi);
+    bool down = false;
+    int hv = empty(lo, hi) ? 2 : hsm_verdict(q, g, lo, hi, tw);
+    float T = (hi.x - lo.x) * (hi.y - lo.y);
+    if (hv == 1) {
+      lA += T;  // the HSM proves it lit
+    } else if (hv == -1) {
+      uA += T;  // ... or in umbra
+    } else if (hv == 0) {
+      Moments mo = moments(lo, hi);
+      float t = sm_threshold(q, g, 0.5 * (lo + hi), tw);
+      float var = mo.var;
+      bool flat_t = mo.ezf < t && threshold_flat(q, g, lo, hi, tw, t - mo.ezf);
+      if (mo.ezf >= t && var < v.flat_var) {
+        lA += mo.T;                                   // L10-L12: planar and behind: lit
+      } else if (flat_t) {
+        sA += mo.T; sZ += mo.ez * mo.T; sZ2 += mo.ez2 * mo.T; sT += (t + unbias) * mo.T;  // L14-L18
+        // (a sub-kernel with blockers whose threshold is not flat goes down, or to PCF)
+      } else if (level < H) {
+        down = true;                                  // L21
+      } else if (v.leaf_grid > 0u) {
+        float nb, zb;                                 // L23-L26
+        pLit += mo.T * pcf(lo, hi, v.leaf_grid, q, g, tw, p.reach * k, nb, zb);
+        pA += mo.T;
+      } else if (mo.ezf < t) {
+        sA += mo.T; sZ += mo.ez * mo.T; sZ2 += mo.ez2 * mo.T; sT += (t + unbias) * mo.T;
+      } else {
+        lA += mo.T;  // no PCF: taken as lit, as plain variance shadow maps do
+      }
+    }
+    if (down) { ++level; nx *= 2; ny *= 2; continue; }
+    // Next.
+    bool done = false;
+    for (;;) {
+      if (level == 0) { done = true; break; }
+      if ((nx & 1) == 0) { ++nx; break; }
+      if ((ny & 1) == 0) { --nx; ++ny; break; }
+      --level; nx >>= 1; ny >>= 1;
+    }
+    if (done) break;
+  }
+  float L = 1.0;
+  if (sA > 0.0) {
+    float mu = float(sZ / R(sA)), t = sT / sA, var = variance(sZ / R(sA), sZ2 / R(sA));
+    if (mu < t) L = var / (var + (t - mu) * (t - mu));
+  }
+  soft[i] = sm_input_edges((L * sA + lA + pLit) / (sA + lA + uA + pA), h_in, rf);  // L29-L32
+}
