@@ -11,6 +11,13 @@
 
 namespace isg::effects {
 
+// The spacing of float32 values at magnitude |m|: 2^-23 of it, rounded down to a power of two
+// (0 where m is 0, not finite, or where float32 has no normal numbers left).
+inline double float32_step(double m) {
+  m = std::abs(m);
+  return std::isnormal(m) && std::ilogb(m) > -127 + 23 ? std::ldexp(1.0, std::ilogb(m) - 23) : 0.0;
+}
+
 // Where the processed image lies in the camera's frame: the whole frame, or a tile of a large
 // plate (lib/run/job.cpp) at (x0, y0) of a frame_w x frame_h frame. The passes take the
 // principal point and the pixel hash's origin from it, so a tile computes what the same pixels

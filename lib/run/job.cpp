@@ -38,7 +38,7 @@ void choose_positions(const JobConfig& job, LoadedFrame& f) {
   const auto& eye = view.eye;
   const double m_p = std::max({std::abs(eye[0]), std::abs(eye[1]), std::abs(eye[2])}) +
                      job.scene.scene_radius;
-  const double step = std::ldexp(1.0, std::ilogb(std::max(m_p, 1e-30)) - 23);
+  const double step = effects::float32_step(m_p);
   const double pixel = job.scene.scene_radius / view.f_px;
   const bool use_z = how == "Z" || (how == "auto" && step > pixel);
   if (!use_z) return;
@@ -46,7 +46,7 @@ void choose_positions(const JobConfig& job, LoadedFrame& f) {
   std::ostringstream note;
   note << "Z and the camera (input.positions=" << how << "; P's float32 step " << step
        << " m, a pixel " << pixel << " m at a scene radius, Z's step "
-       << std::ldexp(1.0, std::ilogb(std::max(2.0 * job.scene.scene_radius, 1e-30)) - 23) << " m)";
+       << effects::float32_step(2.0 * job.scene.scene_radius) << " m)";
   f.positions = note.str();
 }
 

@@ -44,7 +44,7 @@ struct Geom {
     const float m = !in.position.empty()
                         ? std::max({std::abs(in.position[i]), std::abs(in.position[n + i]), std::abs(in.position[2 * n + i])})
                         : std::abs(in.depth[i]);
-    return std::isnormal(m) && std::ilogb(m) > -127 + 23 ? std::ldexp(1.0, std::ilogb(m) - 23) : 0.0;
+    return float32_step(m);
   }
   V3 position(size_t i) const {
     if (!in.position.empty()) return {in.position[i], in.position[n + i], in.position[2 * n + i]};

@@ -236,7 +236,7 @@ ShadowAuto choose_shadow_method(const io::Image& img, const io::Roles& roles, co
   for (int k = 0; k < 3; ++k) mag = std::max(mag, std::abs(view.eye[size_t(k)]));
   const double dist = std::hypot(L[0] - view.eye[0], L[1] - view.eye[1], L[2] - view.eye[2]);
   const double texel = std::max(dist, 1e-6) * 2.0 * std::tan(sm.yfov_deg * kPi / 360.0) / double(std::max(sm.height, 1));
-  const double step = mag > 0.0 ? std::ldexp(1.0, std::ilogb(mag) - 23) : 0.0;
+  const double step = float32_step(mag);
   if (step > texel) {
     std::snprintf(b, sizeof b, "the scene lies %.3g m from the world origin: float32 positions step by %.3g m there, more than a shadow-map texel (%.3g m)", mag, step, texel);
     return {"isg", b};

@@ -23,6 +23,7 @@ using detail::V3;
 // What both sides derive from the map and the settings.
 struct VssmSetup {
   double far_z = 0, z0 = 0;
+  SatFixedPoint f1, f2;  // the SATs of z and (z − z0)²
   std::vector<int> level_w, level_h;
   std::vector<size_t> level_off;
   size_t hsm_texels = 0;
@@ -37,6 +38,8 @@ VssmSetup vssm_setup(const ShadowmapData& map) {
   v.far_z = double(float(far));
   for (float z : map.z) sum += std::min(double(z), v.far_z);
   v.z0 = double(float(map.z.empty() ? 0.0 : sum / double(map.z.size())));
+  v.f1 = sat_fixed_point(map.z, 1, v.far_z);
+  v.f2 = sat_fixed_point(map.z, 2, v.far_z, v.z0);
   int w = map.width, h = map.height;
   for (;;) {
     v.level_off.push_back(v.hsm_texels);
@@ -86,16 +89,14 @@ struct VssmRef {
         }
     // The SATs of z and (z − z0)² as the GPU builds them: each texel's fixed-point integer
     // (sat_quantize, float arithmetic as in the shader), worth q / scale + offset.
-    const SatFixedPoint f1 = sat_fixed_point(G.map.z, 1, v.far_z);
-    const SatFixedPoint f2 = sat_fixed_point(G.map.z, 2, v.far_z, v.z0);
     s1.assign(size_t(W + 1) * (Hh + 1), 0.0);
     s2 = s1;
     for (int y = 0; y < Hh; ++y) {
       double r1 = 0, r2 = 0;
       for (int x = 0; x < W; ++x) {
         const float z = G.map.z[size_t(y) * W + x];
-        r1 += double(sat_quantize(z, f1)) / f1.scale + double(float(f1.offset));
-        r2 += double(sat_quantize(z, f2)) / f2.scale + double(float(f2.offset));
+        r1 += double(sat_quantize(z, v.f1)) / v.f1.scale + double(float(v.f1.offset));
+        r2 += double(sat_quantize(z, v.f2)) / v.f2.scale + double(float(v.f2.offset));
         s1[size_t(y + 1) * (W + 1) + x + 1] = s1[size_t(y) * (W + 1) + x + 1] + r1;
         s2[size_t(y + 1) * (W + 1) + x + 1] = s2[size_t(y) * (W + 1) + x + 1] + r2;
       }
@@ -310,8 +311,7 @@ struct VssmRef {
   }
 };
 
-shaders::VssmParams vssm_params(const ShadowmapSettings& s, const VssmSetup& v,
-                                const SatFixedPoint& f1, const SatFixedPoint& f2) {
+shaders::VssmParams vssm_params(const ShadowmapSettings& s, const VssmSetup& v) {
   shaders::VssmParams p{};
   p.m = uint32_t(s.vssm_m);
   p.tree_h = uint32_t(s.vssm_h);
@@ -321,10 +321,10 @@ shaders::VssmParams vssm_params(const ShadowmapSettings& s, const VssmSetup& v,
   p.contact = float(s.vssm_contact * s.scene_radius);
   p.far_z = float(v.far_z);
   p.z0 = float(v.z0);
-  p.off1 = float(f1.offset);
-  p.scale1 = float(f1.scale);
-  p.off2 = float(f2.offset);
-  p.scale2 = float(f2.scale);
+  p.off1 = float(v.f1.offset);
+  p.scale1 = float(v.f1.scale);
+  p.off2 = float(v.f2.offset);
+  p.scale2 = float(v.f2.scale);
   // On the GPU level 0 is the map itself (not stored): levels 1... from offset 0.
   const size_t base = v.level_off.size() > 1 ? v.level_off[1] : 0;
   for (size_t L = 0; L < v.level_w.size(); ++L) {
@@ -355,9 +355,7 @@ class Vssm final : public detail::ShadowmapMethod {
     const auto p = shadowmap_params(s, map, w, h, has_position, 0u);
     params_ = gpu::Buffer(ctx, sizeof(p), "vssm.params");
     params_.upload(&p, sizeof(p));
-    f1_ = sat_fixed_point(map.z, 1, v_.far_z);
-    f2_ = sat_fixed_point(map.z, 2, v_.far_z, v_.z0);
-    const auto vp = vssm_params(s, v_, f1_, f2_);
+    const auto vp = vssm_params(s, v_);
     vparams_ = gpu::Buffer(ctx, sizeof(vp), "vssm.vparams");
     vparams_.upload(&vp, sizeof(vp));
     const size_t texels = map.z.size();
@@ -386,8 +384,8 @@ class Vssm final : public detail::ShadowmapMethod {
       seq.dispatch(hsm_k_, {gpu::Binding::of(map), gpu::Binding::of(hsm_)}, hp, hp.dst_w, hp.dst_h,
                    label + ".hsm" + std::to_string(L));
     }
-    sat_.record(seq, map, sat1_, mw_, mh_, f1_, label + ".sat_z");
-    sat_.record(seq, map, sat2_, mw_, mh_, f2_, label + ".sat_z2");
+    sat_.record(seq, map, sat1_, mw_, mh_, v_.f1, label + ".sat_z");
+    sat_.record(seq, map, sat2_, mw_, mh_, v_.f2, label + ".sat_z2");
     shaders::ShadowmapPush pc{w_, h_};
     seq.dispatch(shade_k_,
                  {gpu::Binding::of(params_), gpu::Binding::floats(geo), gpu::Binding::floats(fg),
@@ -408,7 +406,6 @@ class Vssm final : public detail::ShadowmapMethod {
   gpu::Kernel hsm_k_, shade_k_;
   SatPass sat_;
   VssmSetup v_;
-  SatFixedPoint f1_, f2_;
   gpu::Buffer params_, vparams_, hsm_, sat1_, sat2_, stats_;
   uint32_t w_, h_, mw_, mh_;
 };
