@@ -5,7 +5,7 @@
 // every step in double.
 // Speed (issue 18): every tap is one point sample of two packed texels (reflections.pack); the
 // sample lattice comes from a table made on the host; the lobe warp is algebraic (no atan/tan/cos
-// per tap); the search runs once per 2×2 quad.
+// per tap); the search runs once per 2×2 quad, from the coarse cells where its radius is wide.
 #extension GL_GOOGLE_include_directive : require
 #include "reflections_isg_io.h"
 #include "isg_sampling.h"
@@ -39,10 +39,18 @@ vec2 project(vec3 rel) {  // rel = P − eye
 }
 
 // The pixel holding frame position q (pixel centres at +0.5), clamped to the image.
-uint tap(vec2 q) {
+ivec2 tap_xy(vec2 q) {
   ivec2 x = ivec2(floor(q)) - ivec2(pc.origin & 0xffffu, pc.origin >> 16);
-  x = clamp(x, ivec2(0), ivec2(pc.width, pc.height) - 1);
+  return clamp(x, ivec2(0), ivec2(pc.width, pc.height) - 1);
+}
+uint tap(vec2 q) {
+  ivec2 x = tap_xy(q);
   return uint(x.y) * pc.width + uint(x.x);
+}
+// The texel of that pixel's REFL_COARSE² cell (after the image's in refl.pack.*).
+uint tap_coarse(vec2 q) {
+  uvec2 c = uvec2(tap_xy(q)) / REFL_COARSE;
+  return pc.width * pc.height + c.y * ((pc.width + REFL_COARSE - 1u) / REFL_COARSE) + c.x;
 }
 
 // Eq. 10-12: r = exp(-(a·l² + b·n²)/σ), l = |w(p_i) − w(p_0)| / scene_radius, n = 1 − N_i·N_0.
@@ -119,9 +127,11 @@ vec2 search_sums(Lobe L, uint i, uint part, uint parts) {
   if ((d0 <= 0.0 && (pc.flags & 8u) == 0u) || part != 0u) { st = 0.0; sw = 0.0; }
   uint gs = pc.grids & 0xffffu;
   mat2 FR = L.R_p * L.F;
+  bool coarse = L.R_p >= REFL_COARSE_RADIUS;
   for (uint k = part; k < gs * gs; k += parts) {
     vec4 u = texelFetch(samples, int(k));
-    uint t = tap(L.p0 + FR * u.xy);
+    vec2 q = L.p0 + FR * u.xy;
+    uint t = coarse ? tap_coarse(q) : tap(q);
     vec4 c = texelFetch(pack_color, int(t));
     if (!has_refl(c)) continue;
     float dj = c.w;
@@ -180,7 +190,9 @@ vec4 gather_sums(Lobe L, uint i, Foot F, uint part, uint parts) {
     float tau = sqrt(tau2);
     // Lattice point scaled from radius |c| to k·tan 2θ_h (|c| = 0: the centre stays put).
     float f = u.z > 0.0 ? 2.0 * tau / ((1.0 - tau2) * u.z) : 0.0;
-    uint t = tap(L.p0 + FK * (f * u.xy));
+    vec2 q = L.p0 + FK * (f * u.xy);
+    // A tap at least REFL_COARSE_GATHER pixels out (k·tan 2θ_h) reads its coarse cell.
+    uint t = F.k_px * f * u.z >= REFL_COARSE_GATHER ? tap_coarse(q) : tap(q);
     vec4 c = texelFetch(pack_color, int(t));
     if (!has_refl(c)) continue;
     float w = sqrt(1.0 + tau2) * range_fn(texelFetch(pack_geo, int(t)), L.P0, L.N0);

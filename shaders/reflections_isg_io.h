@@ -38,6 +38,17 @@ ISG_IO_BEGIN
 // against 0.01794 (128: 0.01792), reflections.isg at 1080p the same on isg-synth contact and
 // about 6 % slower on isg-synth gloss (issue 18).
 #define REFL_REUSE_RADIUS 64.0
+// Coarse taps (issue 18): refl.pack.* also hold, after the w·h texels of the image, one texel per
+// REFL_COARSE² cell (cells aligned to the image, ceil(w / REFL_COARSE) a row): a copy of the
+// cell's pixel min(REFL_COARSE·c + REFL_COARSE_PICK, last). A parameter search whose radius R_p
+// is at least REFL_COARSE_RADIUS pixels (lattice points ≥ 2·R_p / grid apart, 13 pixels for 5×5)
+// taps the cells: the point a tap lands on moves by up to REFL_COARSE_PICK + 1 pixels, and the
+// texels it reads, sixteen times fewer, stay in cache (search radii reach reflections.max_radius,
+// 256 pixels at the defaults).
+#define REFL_COARSE 4u
+#define REFL_COARSE_PICK 1u
+#define REFL_COARSE_RADIUS 32.0
+#define REFL_COARSE_GATHER 32.0
 #define REFL_REUSE_RATIO 1.25
 #define REFL_REUSE_COVER 0.5
 // refl.tiles (uint words) holds −(glossy pixels + REFL_STATS_SEARCHES · searches) for a tile that

@@ -2,7 +2,8 @@
 // Pass reflections.pack (issue 18): everything a tap of reflections.isg reads, packed into two
 // 16-byte texels per pixel so that a tap is two loads instead of about fifteen scattered floats
 // from planar buffers: refl.pack.geo = (P − eye as float bits, octahedral N) and
-// refl.pack.color = (refl, refl.dist or REFL_NO_REFLECTION). Positions are relative to the
+// refl.pack.color = (refl, refl.dist or REFL_NO_REFLECTION); then the same for one pixel of each
+// REFL_COARSE² cell (the coarse taps of wide searches). Positions are relative to the
 // camera (shaders/isg_view.h), so a scene far from the origin keeps its precision.
 #extension GL_GOOGLE_include_directive : require
 #include "reflections_isg_io.h"
@@ -35,10 +36,18 @@ void main() {
   }
   vec3 N = isg_at3(nrm, i, n);
   N = length(N) > 0.0 ? N : vec3(0.0, 0.0, 1.0);
-  pack_geo[i] = uvec4(floatBitsToUint(rel), isg_oct_encode(N));
+  uvec4 g = uvec4(floatBitsToUint(rel), isg_oct_encode(N));
   vec3 w = isg_at3(weight, i, n);
   bool has_refl = texelFetch(fg, int(i)).r != 0.0 && max(w.r, max(w.g, w.b)) > 0.0;
   float d = texelFetch(dist, int(i)).r;
-  pack_color[i] = vec4(isg_at3(refl, i, n),
-                       has_refl ? (d > 0.0 ? d : 0.0) : REFL_NO_REFLECTION);
+  vec4 c = vec4(isg_at3(refl, i, n), has_refl ? (d > 0.0 ? d : 0.0) : REFL_NO_REFLECTION);
+  pack_geo[i] = g;
+  pack_color[i] = c;
+  // The pixel its coarse cell copies (REFL_COARSE_PICK, or the image's last row / column).
+  uvec2 cell = p / REFL_COARSE;
+  if (p == min(cell * REFL_COARSE + REFL_COARSE_PICK, uvec2(pc.width, pc.height) - 1u)) {
+    uint j = n + cell.y * ((pc.width + REFL_COARSE - 1u) / REFL_COARSE) + cell.x;
+    pack_geo[j] = g;
+    pack_color[j] = c;
+  }
 }

@@ -105,9 +105,11 @@ class Reflections final : public Effect {
       out.need("roughness", 1, true);
       reads.push_back("roughness");
     }
-    // reflections.pack: the taps' data, two 16-byte texels a pixel (reflections.isg's input).
-    out.need("refl.pack.geo", 4, false);
-    out.need("refl.pack.color", 4, false);
+    // reflections.pack: the taps' data, two 16-byte texels a pixel and a coarse cell
+    // (reflections.isg's input).
+    const uint64_t pack_bytes = refl_pack_texels(uint32_t(c.width), uint32_t(c.height)) * 16;
+    out.buffer("refl.pack.geo", pack_bytes);
+    out.buffer("refl.pack.color", pack_bytes);
     out.pass("reflections", k, "reflections.pack", "reflections.pack", reads,
              {"refl.pack.geo", "refl.pack.color"});
     reads = {"refl.pack.geo", "refl.pack.color"};

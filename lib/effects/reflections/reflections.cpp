@@ -70,6 +70,15 @@ struct Ctx {
     const int y = std::clamp(int(std::floor(q[1])), 0, in.h - 1);
     return size_t(y) * in.w + x;
   }
+  // The pixel a coarse tap reads (shaders/reflections_isg_io.h, REFL_COARSE): the one its cell
+  // keeps.
+  size_t tap_coarse(V2 q) const {
+    const size_t t = tap(q);
+    const auto pick = [](int v, int size) {
+      return std::min(v / int(REFL_COARSE) * int(REFL_COARSE) + int(REFL_COARSE_PICK), size - 1);
+    };
+    return size_t(pick(int(t / in.w), in.h)) * in.w + pick(int(t % in.w), in.w);
+  }
   // Eq. 10-12.
   double range(size_t j, V3 P0, V3 N0) const {
     double l = len3(sub(position(j), P0)) / s.scene_radius;
@@ -146,10 +155,11 @@ struct Ctx {
     double d0 = in.dist[i];
     double st = d0 > 0 ? d0 / (L.e + d0) : 1.0, sw = 1.0;
     if (d0 <= 0 && !s.search_misses) st = sw = 0.0;
+    const bool coarse = L.R_p >= REFL_COARSE_RADIUS;  // wide: the coarse cells' taps
     for (int k = 0; k < s.grid_search * s.grid_search; ++k) {
       V2 u;
       V2 q = L.at(concentric(k, s.grid_search), L.R_p, &u);
-      const size_t t = tap(q);
+      const size_t t = coarse ? tap_coarse(q) : tap(q);
       if (!has_refl(t)) continue;
       double dj = in.dist[t];
       if (dj <= 0 && !s.search_misses) continue;
@@ -194,7 +204,7 @@ struct Ctx {
       const double f = rho_u > 0 ? F.k_px * std::tan(2.0 * th) / rho_u : 0.0;
       const V2 q = L.at(c, f);
       const double wd = 1.0 / std::cos(th);
-      const size_t t = tap(q);
+      const size_t t = f * rho_u >= REFL_COARSE_GATHER ? tap_coarse(q) : tap(q);
       if (!has_refl(t)) continue;
       double w = wd * range(t, L.P0, L.N0);
       V3 r = rgb(in.refl, t);

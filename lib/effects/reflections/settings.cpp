@@ -39,4 +39,8 @@ uint32_t refl_tiles(uint32_t w, uint32_t h) {
 
 uint32_t refl_tiles_words(uint32_t w, uint32_t h) { return REFL_TILES_WORDS(refl_tiles(w, h)); }
 
+uint64_t refl_pack_texels(uint32_t w, uint32_t h) {
+  return uint64_t(w) * h + uint64_t((w + REFL_COARSE - 1) / REFL_COARSE) * ((h + REFL_COARSE - 1) / REFL_COARSE);
+}
+
 }  // namespace isg::effects

@@ -45,5 +45,8 @@ double ggx_cone_tan(double alpha, double energy);
 uint32_t refl_tiles(uint32_t w, uint32_t h);
 // The words of refl.tiles (shaders/reflections_isg_io.h).
 uint32_t refl_tiles_words(uint32_t w, uint32_t h);
+// The 16-byte texels of refl.pack.geo and refl.pack.color: the image's, then its REFL_COARSE²
+// cells' (shaders/reflections_isg_io.h).
+uint64_t refl_pack_texels(uint32_t w, uint32_t h);
 
 }  // namespace isg::effects
