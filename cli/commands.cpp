@@ -39,7 +39,7 @@ int cmd_info(const Common& c, const std::string& input, bool as_json) {
     if (!e.runs || e.effect.rfind("shadows[", 0) != 0) continue;
     if (picks.empty()) img = isg::io::read_exr(input, limits_of(p));
     const std::string l = e.effect.substr(8, e.effect.size() - 9);
-    picks[e.effect] = isg::effects::choose_shadow_method(img, roles, scene.light(l), l, cam ? &*cam : nullptr, p);
+    picks[e.effect] = isg::effects::choose_shadow_method(img, roles, scene.light(l), l, cam ? &*cam : nullptr);
   }
 
   std::vector<std::string> all_roles = isg::io::global_roles();

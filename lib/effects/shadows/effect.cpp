@@ -80,7 +80,7 @@ class Shadows final : public Effect {
        "shadow-map methods: constant depth bias, in shadow-map texel footprints at the "
        "receiver, on top of the receiver-plane depth (fitted from the screen neighbours)",
        "texels"),
-      params::def(shadow_keys::slope_max, "4", 0, 1e3,
+      params::def(shadow_keys::slope_max, "16", 0, 1e3,
        "shadow-map methods: the receiver-plane depth may differ from the receiver's by at "
        "most this many texel footprints per texel of lateral offset (grazing-angle clamp); where "
        "the screen neighbours show a smooth receiver, the plane is trusted up to 64 (89 degrees "
@@ -166,7 +166,7 @@ class Shadows final : public Effect {
     const bool map_method = m == "pcss" || m == "vssm" || m == "cssm";
     if (m != "auto" && !map_method) return;
     for (const auto& l : c.roles.lights) {
-      const ShadowAuto a = choose_shadow_method(img, c.roles, c.scene.light(l), l, c.camera, c.p);
+      const ShadowAuto a = choose_shadow_method(img, c.roles, c.scene.light(l), l, c.camera);
       if (map_method) {
         if (a.method == "isg")
           out["shadows[" + l + "]/note"] = "shadows.method=auto would take isg here: " + a.why;

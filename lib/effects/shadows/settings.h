@@ -71,7 +71,7 @@ struct ShadowmapSettings {
   double input_edges = 2.0;               // shadows.input_edges, texels (0: off)
   bool rotate = true;                     // shadows.rotate
   double bias = 2.0;                      // shadows.bias, receiver texel footprints
-  double slope_max = 4.0;                 // shadows.slope_max
+  double slope_max = 16.0;                // shadows.slope_max
   double spread_bias = 2.0;               // shadows.spread_bias
   double depth_ulps = 1.0;                // shadows.depth_ulps
   double max_radius = 64.0;               // shadows.smap_max_radius, texels
@@ -104,15 +104,15 @@ std::string shadowmap_unsupported(const io::Light* light, const std::string& nam
 // scene, and why. pcss is the better on the shared cases where the light stands well above the
 // receivers near the world origin; isg holds everywhere measured, so it takes the scenes pcss
 // cannot: no usable shadow map; a scene so far from the origin that float32 positions step by
-// more than a quarter of a shadow-map texel there; or light that grazes most receivers (the
-// median angle of the light above the lit receivers under atan(1 / shadows.slope_max), the
-// slope up to which the map methods' receiver planes hold). Without a camera, which isg needs
-// and pcss does not (given P), pcss.
+// more than a shadow-map texel there; or light that grazes most receivers (the median angle of
+// the light above the lit receivers under 14 degrees, where the map's texels stretch over the
+// receivers and isg measured better). Without a camera, which isg needs and pcss does not
+// (given P), pcss.
 struct ShadowAuto {
   std::string method, why;
 };
 ShadowAuto choose_shadow_method(const io::Image& img, const io::Roles& roles, const io::Light* light,
-                                const std::string& name, const io::Camera* cam, const params::Params& p);
+                                const std::string& name, const io::Camera* cam);
 
 // From the light, the camera (may be null when P is given; any resolution: f_px is for
 // `height` rows) and the preset.
