@@ -35,6 +35,13 @@ def timed(cmd):
     return time.time() - t0, p.stdout
 
 
+def nominal_samples(isg):
+    """The default preset's lattice per effect: search + gather samples a pixel (`isg params`)."""
+    v = dict(re.findall(r"^(\S+)\s+(\S+)", subprocess.run([isg, "params"], check=True, capture_output=True,
+                                                       text=True).stdout, re.M))
+    return {e: int(v[f"{e}.search_samples"]) + int(v[f"{e}.gather_samples"]) for e in ("shadows", "reflections")}
+
+
 def measure():
     T = Tools(a.build)
     w, h = a.size.split("x")
@@ -82,7 +89,7 @@ def measure():
                                      for g in gathers],
                          "device": t["device"]})
     return {"size": a.size, "repeat": a.repeat, "oiiotool_s": best["oiiotool"], "runs": runs,
-            "load": os.getloadavg()[0]}
+            "nominal": nominal_samples(T.isg), "load": os.getloadavg()[0]}
 
 
 def page(r):
@@ -108,16 +115,23 @@ def page(r):
           "and gather, over its GPU time (reflections.isg searches once per 2×2 quad and gathers "
           "wide lobes once per 4×4 block); a sample of reflections.isg is one point tap (two "
           "16-byte texels: colour and distance, position and normal), a sample of shadows.isg "
-          "four bilinear taps (binaries that printed no taps counted samples).", "",
+          "four bilinear taps (binaries that printed no taps counted samples). The share falls as "
+          "the samples a pixel fall (the per-pixel work stays): *nominal lattice* is the time the "
+          "roofline's gather would take for the same pixels at the preset's full lattice (search "
+          "plus gather samples a pixel, as many taps each), over the pass's own time, i.e. the "
+          "share times nominal samples / samples taken.", "",
           "| binary | run | pass | pixels | samples a pixel | taps a sample | M samples/s | M taps/s | "
-          "roofline M taps/s | share |",
-          "|---|---|---|---|---|---|---|---|---|---|"]
+          "roofline M taps/s | share | nominal lattice |",
+          "|---|---|---|---|---|---|---|---|---|---|---|"]
+    nominal = r.get("nominal", {})
     for x in r["runs"]:
         for g in x["gathers"]:
             k = g.get("taps_per_sample", 1)
+            n = nominal.get(g["pass"].split(".")[0])
+            eff = f"{n} samples: {g['share'] * n / g['samples']:.0f}%" if n and g["samples"] > 0 else "-"
             L.append(f"| {x['binary']} | {x['row']} | {g['pass']} | {g['pixels']} | {g['samples']:.1f} | "
                      f"{k} | {g['msamples_s']:.1f} | {g['msamples_s'] * k:.1f} | "
-                     f"{g['roofline_mtaps_s']:.0f} | {g['share']:.0f}% |")
+                     f"{g['roofline_mtaps_s']:.0f} | {g['share']:.0f}% | {eff} |")
     return "\n".join(L) + "\n"
 
 
