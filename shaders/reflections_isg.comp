@@ -50,7 +50,7 @@ uint tap(vec2 q) {
 // The texel of that pixel's REFL_COARSE² cell (after the image's in refl.pack.*).
 uint tap_coarse(vec2 q) {
   uvec2 c = uvec2(tap_xy(q)) / REFL_COARSE;
-  return pc.width * pc.height + c.y * ((pc.width + REFL_COARSE - 1u) / REFL_COARSE) + c.x;
+  return REFL_COARSE_AT(pc.width, pc.height, c.x, c.y);
 }
 
 // Eq. 10-12: r = exp(-(a·l² + b·n²)/σ), l = |w(p_i) − w(p_0)| / scene_radius, n = 1 − N_i·N_0.

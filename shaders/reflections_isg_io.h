@@ -49,6 +49,9 @@ ISG_IO_BEGIN
 #define REFL_COARSE_PICK 1u
 #define REFL_COARSE_RADIUS 32.0
 #define REFL_COARSE_GATHER 32.0
+// Cells a row of a w-pixel-wide image, and the texel of cell (cx, cy) in refl.pack.* (w x h).
+#define REFL_COARSE_CELLS(w) (((w) + REFL_COARSE - 1u) / REFL_COARSE)
+#define REFL_COARSE_AT(w, h, cx, cy) ((w) * (h) + (cy) * REFL_COARSE_CELLS(w) + (cx))
 #define REFL_REUSE_RATIO 1.25
 #define REFL_REUSE_COVER 0.5
 // refl.tiles (uint words) holds −(glossy pixels + REFL_STATS_SEARCHES · searches) for a tile that

@@ -46,7 +46,7 @@ void main() {
   // The pixel its coarse cell copies (REFL_COARSE_PICK, or the image's last row / column).
   uvec2 cell = p / REFL_COARSE;
   if (p == min(cell * REFL_COARSE + REFL_COARSE_PICK, uvec2(pc.width, pc.height) - 1u)) {
-    uint j = n + cell.y * ((pc.width + REFL_COARSE - 1u) / REFL_COARSE) + cell.x;
+    uint j = REFL_COARSE_AT(pc.width, pc.height, cell.x, cell.y);
     pack_geo[j] = g;
     pack_color[j] = c;
   }

@@ -40,7 +40,8 @@ uint32_t refl_tiles(uint32_t w, uint32_t h) {
 uint32_t refl_tiles_words(uint32_t w, uint32_t h) { return REFL_TILES_WORDS(refl_tiles(w, h)); }
 
 uint64_t refl_pack_texels(uint32_t w, uint32_t h) {
-  return uint64_t(w) * h + uint64_t((w + REFL_COARSE - 1) / REFL_COARSE) * ((h + REFL_COARSE - 1) / REFL_COARSE);
+  // The texel after the last cell's (the cell rows' count is REFL_COARSE_CELLS(h)).
+  return REFL_COARSE_AT(uint64_t(w), uint64_t(h), 0u, uint64_t(REFL_COARSE_CELLS(h)));
 }
 
 }  // namespace isg::effects

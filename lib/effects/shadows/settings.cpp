@@ -291,12 +291,11 @@ ShadowAuto choose_shadow_method(const io::Image& img, const io::Roles& roles, co
   if (elev.empty()) return {"isg", "no receivers facing the light"};
   const auto mid = elev.begin() + std::ptrdiff_t(elev.size() / 2);
   std::nth_element(elev.begin(), mid, elev.end());
-  const double limit = kAutoGrazingDegrees;
-  if (*mid < limit) {
-    std::snprintf(b, sizeof b, "the light grazes most receivers: %.1f degrees above them (median), under %.1f", *mid, limit);
+  if (*mid < kAutoGrazingDegrees) {
+    std::snprintf(b, sizeof b, "the light grazes most receivers: %.1f degrees above them (median), under %.1f", *mid, kAutoGrazingDegrees);
     return {"isg", b};
   }
-  std::snprintf(b, sizeof b, "the light stands %.1f degrees above most receivers (median; grazing under %.1f), %.3g m from the world origin: the shadow map's pcss", *mid, limit, mag);
+  std::snprintf(b, sizeof b, "the light stands %.1f degrees above most receivers (median; grazing under %.1f), %.3g m from the world origin: the shadow map's pcss", *mid, kAutoGrazingDegrees, mag);
   return {"pcss", b};
 }
 
