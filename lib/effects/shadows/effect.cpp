@@ -99,7 +99,7 @@ class Shadows final : public Effect {
       params::def(shadow_keys::vssm_m, "5", 1, 16,
        "vssm: the blocker search's kernel is split into m x m sub-kernels (thesis §7.4.2); 1: "
        "no subdivision"),
-      params::def(shadow_keys::vssm_h, "3", 0, 5,
+      params::def(shadow_keys::vssm_h, "2", 0, 5,
        "vssm: height of the quad-tree the filter kernel is subdivided by where it is not "
        "planar (Algorithm 3); 0: no subdivision"),
       params::def(shadow_keys::vssm_leaf_taps, "4", 0, 64,
