@@ -40,7 +40,8 @@ SETTINGS = [
     ("vssm", "no subdivision (m 1, H 0, VSM leaves)",
      ["shadows.method=vssm", "shadows.vssm_m=1", "shadows.vssm_h=0", "shadows.vssm_leaf_taps=0"]),
     ("vssm", "m 5, H 0", ["shadows.method=vssm", "shadows.vssm_m=5", "shadows.vssm_h=0"]),
-    ("vssm", "m 5, H 3 (default)", ["shadows.method=vssm"]),
+    ("vssm", "m 5, H 2 (default)", ["shadows.method=vssm"]),
+    ("vssm", "m 5, H 3", ["shadows.method=vssm", "shadows.vssm_h=3"]),
     ("vssm", "m 5, H 4", ["shadows.method=vssm", "shadows.vssm_h=4"]),
 ]
 

@@ -16,8 +16,8 @@
 #define R VSSM_REAL
 // Variance soft shadow maps (thesis ch. 7, Algorithm 2): the min-max HSM proves pixels fully
 // lit or in umbra (§7.5.1); the blocker search's kernel, split into m x m sub-kernels, gives
-// the mean blocker depth by eq. 7.4 (planar sub-kernels, Chebyshev eq. 7.1 on each one's own
-// moments: see chebyshev) and PCF (non-planar ones, §7.4.2); the filter kernel is traversed as a
+// the mean blocker depth by eq. 7.4 (planar sub-kernels, Chebyshev eq. 7.1 on their pooled
+// moments of eq. 7.5) and PCF (non-planar ones, §7.4.2); the filter kernel is traversed as a
 // quad-tree of height H without a stack (Algorithm 3); near contact a 3x3 PCF (§7.5.4). A
 // sub-kernel counts as planar only where the receiver's threshold is flat across it
 // (threshold_flat): else it is split, or filtered by PCF at the tree's leaves. The filter's PCF
@@ -165,12 +165,16 @@ bool threshold_flat(vec3 q, vec4 g, vec2 lo, vec2 hi, float tw, float gap) {
 }
 
 // Chebyshev's bound (eq. 7.1) on one sub-kernel's lit fraction against its own threshold t (the
-// receiver's depth at its centre, unbiased). The thesis pools the planar sub-kernels' moments
-// (eq. 7.5) and tests them against one mean threshold; where the receiver is lit at a grazing
-// angle the sub-kernels' thresholds differ by more than their blockers' spread, and the pooled
-// variance (the spread between their means counts in it) lets light through the blockers: own
-// grazing case 0.566 → 0.542 of doing nothing, the same scene with a 4096² map 0.465 → 0.427
-// (issue 19). Each sub-kernel is therefore tested on its own, and counts by its area.
+// receiver's depth at its centre, unbiased): the filter's lit area is the sum of its planar
+// sub-kernels' (issue 19). Algorithm 3 pools their moments and tests them against one mean
+// threshold; where the receiver is lit at a grazing angle their thresholds differ by more than
+// their blockers' spread, and the pooled variance (the spread between their means counts in it)
+// lets light through the blockers: own grazing case 0.566 → 0.542 of doing nothing (at H 3).
+// The blocker search keeps the thesis's pooled moments (eq. 7.5): tested sub-kernel by
+// sub-kernel there, a sub-kernel holding only the receiver's own texels, put in front of its
+// threshold by P's float32 noise, counts as a blocker at the receiver's depth, and the contact
+// shadow that follows took the own contact scene 1e6 m from the origin, from P, from 0.44 to
+// 0.58 (at the origin, 0.241 → 0.236: too little to pay for it).
 float chebyshev(Moments mo, float t) {
   float d = t - mo.ezf;
   return d > 0.0 ? mo.var / (mo.var + d * d) : 1.0;
@@ -214,10 +218,12 @@ void main() {
   if (zr.x >= base + lim) { atomicAdd(stats[SHADOWMAP_STAT_SKIPPED], 1u); soft[i] = sm_input_edges(1.0, h_in, 0.0); return; }
   if (zr.y < base - lim) { atomicAdd(stats[SHADOWMAP_STAT_SKIPPED], 1u); soft[i] = sm_input_edges(0.0, h_in, 0.0); return; }
 
-  // Blocker search (Algorithm 2, L11-L15) over m x m sub-kernels (§7.4.2): each planar one's
-  // blockers by eq. 7.1 and their mean depth by eq. 7.4 (z_unocc = t), each non-planar one's by
-  // PCF.
-  float bA = 0.0, zA = 0.0;  // blocker area, Σ z·area
+  // Blocker search (Algorithm 2, L11-L15): the whole kernel when it is planar (its mean depth
+  // in front of the receiver), else m x m sub-kernels (§7.4.2), the planar ones' moments pooled
+  // (eq. 7.5; see chebyshev for why here and not in the filter).
+  float sA = 0.0, sT = 0.0;  // planar group: area, Σ E(z)T, Σ E(z²)T, Σ t T
+  R sZ = R(0.0), sZ2 = R(0.0);
+  float bPcf = 0.0, zPcf = 0.0;                   // non-planar group: blocker area, Σ z·area
   int m = int(v.m);
   for (int iy = 0; iy < m; ++iy)
     for (int ix = 0; ix < m; ++ix) {
@@ -230,23 +236,30 @@ void main() {
       float t = sm_threshold(q, g, 0.5 * (lo + hi), tw);
       bool flat_t = mo.ezf < t && threshold_flat(q, g, lo, hi, tw, t - mo.ezf);
       if (hv < 0) {
-        bA += mo.T; zA += mo.ezf * mo.T;  // all blockers: their mean depth is E(z)
+        bPcf += mo.T; zPcf += mo.ezf * mo.T;  // all blockers: their mean depth is E(z)
       } else if (flat_t || (mo.ezf < t && v.leaf_grid == 0u)) {
-        float tu = t + unbias, lit = chebyshev(mo, tu);  // eq. 7.1
-        if (lit < 1.0 - 1e-6) {
-          bA += (1.0 - lit) * mo.T;
-          zA += (mo.ezf - lit * tu) * mo.T;  // eq. 7.4 × the blockers' area (1 − lit) T
-        }
+        sA += mo.T; sZ += mo.ez * mo.T; sZ2 += mo.ez2 * mo.T; sT += (t + unbias) * mo.T;
       } else if ((mo.ezf < t || mo.var >= v.flat_var) && v.leaf_grid > 0u) {
         float nb, zb;
         pcf(lo, hi, v.leaf_grid, q, g, tw, 0.0, nb, zb);
         float n = float(v.leaf_grid * v.leaf_grid);
-        bA += mo.T * nb / n;
-        zA += mo.T * zb / n;
+        bPcf += mo.T * nb / n;
+        zPcf += mo.T * zb / n;
       }
     }
-  if (bA <= 0.0) { atomicAdd(stats[SHADOWMAP_STAT_SKIPPED], 1u); soft[i] = sm_input_edges(1.0, h_in, 0.0); return; }
-  float zavg = clamp(zA / bA, p.min_depth, q.z);
+  float bVsm = 0.0, zVsm = 0.0;
+  if (sA > 0.0) {
+    float mu = float(sZ / R(sA)), t = sT / sA, var = variance(sZ / R(sA), sZ2 / R(sA));
+    if (mu < t) {
+      float lit = var / (var + (t - mu) * (t - mu));  // eq. 7.1
+      if (lit < 1.0 - 1e-6) {
+        bVsm = (1.0 - lit) * sA;
+        zVsm = (mu - lit * t) / (1.0 - lit) * bVsm;  // eq. 7.4, z_unocc = t
+      }
+    }
+  }
+  if (bVsm + bPcf <= 0.0) { atomicAdd(stats[SHADOWMAP_STAT_SKIPPED], 1u); soft[i] = sm_input_edges(1.0, h_in, 0.0); return; }
+  float zavg = clamp((zVsm + zPcf) / (bVsm + bPcf), p.min_depth, q.z);
   float rf = k * max(1.0 / zavg - 1.0 / q.z, 0.0);
   if (rf > p.max_radius) { rf = p.max_radius; atomicAdd(stats[SHADOWMAP_STAT_CLAMPED], 1u); }
   // The square kernel of the light disk's area (half-width √π/2 · r; a rect light's
@@ -263,7 +276,7 @@ void main() {
   // The filter kernel as a quad-tree of height H, traversed linearly (Algorithm 3): a node is
   // (level, ix, iy); Next is the next sibling, or the parent's Next after the last one.
   // Areas: proven lit (lA), proven umbra (uA), filtered (fA, of which fLit lit: Chebyshev on
-  // planar sub-kernels, PCF on non-planar leaves).
+  // each planar sub-kernel, PCF on non-planar leaves).
   float lA = 0.0, uA = 0.0, fA = 0.0, fLit = 0.0;
   int level = 0, nx = 0, ny = 0;
   int H = int(v.tree_h);

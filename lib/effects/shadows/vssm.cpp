@@ -186,8 +186,8 @@ struct VssmRef {
     return tr[1] - tr[0] < gap;
   }
 
-  // Eq. 7.1 on one sub-kernel against its own threshold t (shadowmap_vssm.glsl's chebyshev: the
-  // thesis's pooled moments of eq. 7.5 leak at grazing light).
+  // Eq. 7.1 on one sub-kernel against its own threshold t, in the filter (shadowmap_vssm.glsl's
+  // chebyshev: Algorithm 3's pooled moments leak at grazing light; the search keeps them).
   double chebyshev(const Moments& mo, double t) const {
     const double d = t - mo.ez, var = variance(mo.ez, mo.ez2);
     return d > 0 ? var / (var + d * d) : 1.0;
@@ -219,7 +219,7 @@ struct VssmRef {
     const auto zr = hsm_range(a, b);
     if (zr[0] >= base + lim) { ++st.skipped; return {1.0, 0.0}; }
     if (zr[1] < base - lim) { ++st.skipped; return {0.0, 0.0}; }
-    double bA = 0, zA = 0;  // blocker area, Σ z·area
+    double sA = 0, sZ = 0, sZ2 = 0, sT = 0, bPcf = 0, zPcf = 0;
     const int m = s.vssm_m;
     for (int iy = 0; iy < m; ++iy)
       for (int ix = 0; ix < m; ++ix) {
@@ -232,23 +232,30 @@ struct VssmRef {
         const double t = threshold_at(q, g, lo, hi, tw);
         const bool flat_t = mo.ez < t && threshold_flat(q, g, lo, hi, tw, t - mo.ez);
         if (hv < 0) {
-          bA += mo.T; zA += mo.ez * mo.T;
+          bPcf += mo.T; zPcf += mo.ez * mo.T;
         } else if (flat_t || (mo.ez < t && grid == 0)) {
-          const double tu = t + unbias, lit = chebyshev(mo, tu);
-          if (lit < 1.0 - 1e-6) {
-            bA += (1.0 - lit) * mo.T;
-            zA += (mo.ez - lit * tu) * mo.T;  // eq. 7.4 × (1 − lit) T
-          }
+          sA += mo.T; sZ += mo.ez * mo.T; sZ2 += mo.ez2 * mo.T; sT += (t + unbias) * mo.T;
         } else if ((mo.ez < t || variance(mo.ez, mo.ez2) >= flat) && grid > 0) {
           double nb, zb;
           pcf(lo, hi, grid, q, g, tw, 0.0, nb, zb);
           const double n = double(grid * grid);
-          bA += mo.T * nb / n;
-          zA += mo.T * zb / n;
+          bPcf += mo.T * nb / n;
+          zPcf += mo.T * zb / n;
         }
       }
-    if (bA <= 0) { ++st.skipped; return {1.0, 0.0}; }
-    const double zavg = std::clamp(zA / bA, G.map.min_depth, q[2]);
+    double bVsm = 0, zVsm = 0;
+    if (sA > 0) {
+      const double mu = sZ / sA, t = sT / sA, var = variance(mu, sZ2 / sA);
+      if (mu < t) {
+        const double lit = var / (var + (t - mu) * (t - mu));
+        if (lit < 1.0 - 1e-6) {
+          bVsm = (1.0 - lit) * sA;
+          zVsm = (mu - lit * t) / (1.0 - lit) * bVsm;
+        }
+      }
+    }
+    if (bVsm + bPcf <= 0) { ++st.skipped; return {1.0, 0.0}; }
+    const double zavg = std::clamp((zVsm + zPcf) / (bVsm + bPcf), G.map.min_depth, q[2]);
     double rf = k * std::max(1.0 / zavg - 1.0 / q[2], 0.0);
     if (rf > s.max_radius) { rf = s.max_radius; ++st.clamped; }
     square(q, 0.886226925452758 * rf, a, b);
