@@ -164,7 +164,8 @@ bool threshold_flat(vec3 q, vec4 g, vec2 lo, vec2 hi, float tw, float gap) {
   return tr.y - tr.x < gap;
 }
 
-// Chebyshev's bound (eq. 7.1) on one sub-kernel's lit fraction against its own threshold t (the
+// Chebyshev's bound (eq. 7.1): the lit fraction of depths of mean mu and variance var against
+// threshold t. The filter takes it on each planar sub-kernel against its own threshold (the
 // receiver's depth at its centre, unbiased): the filter's lit area is the sum of its planar
 // sub-kernels' (issue 19). Algorithm 3 pools their moments and tests them against one mean
 // threshold; where the receiver is lit at a grazing angle their thresholds differ by more than
@@ -175,9 +176,9 @@ bool threshold_flat(vec3 q, vec4 g, vec2 lo, vec2 hi, float tw, float gap) {
 // threshold by P's float32 noise, counts as a blocker at the receiver's depth, and the contact
 // shadow that follows took the own contact scene 1e6 m from the origin, from P, from 0.44 to
 // 0.58 (at the origin, 0.241 → 0.236: too little to pay for it).
-float chebyshev(Moments mo, float t) {
-  float d = t - mo.ezf;
-  return d > 0.0 ? mo.var / (mo.var + d * d) : 1.0;
+float chebyshev(float mu, float var, float t) {
+  float d = t - mu;
+  return d > 0.0 ? var / (var + d * d) : 1.0;
 }
 
 // The HSM's verdict on a sub-kernel: 1 all lit, -1 all blocked, 0 neither.
@@ -251,7 +252,7 @@ void main() {
   if (sA > 0.0) {
     float mu = float(sZ / R(sA)), t = sT / sA, var = variance(sZ / R(sA), sZ2 / R(sA));
     if (mu < t) {
-      float lit = var / (var + (t - mu) * (t - mu));  // eq. 7.1
+      float lit = chebyshev(mu, var, t);
       if (lit < 1.0 - 1e-6) {
         bVsm = (1.0 - lit) * sA;
         zVsm = (mu - lit * t) / (1.0 - lit) * bVsm;  // eq. 7.4, z_unocc = t
@@ -298,7 +299,7 @@ void main() {
       if (mo.ezf >= t && var < v.flat_var) {
         lA += mo.T;                                   // L10-L12: planar and behind: lit
       } else if (flat_t) {
-        fLit += mo.T * chebyshev(mo, t + unbias);  // L14-L18, eq. 7.1 on its own
+        fLit += mo.T * chebyshev(mo.ezf, mo.var, t + unbias);  // L14-L18, eq. 7.1 on its own
         fA += mo.T;
         // (a sub-kernel with blockers whose threshold is not flat goes down, or to PCF)
       } else if (level < H) {
@@ -308,7 +309,7 @@ void main() {
         fLit += mo.T * pcf(lo, hi, v.leaf_grid, q, g, tw, p.reach * k, nb, zb);
         fA += mo.T;
       } else if (mo.ezf < t) {
-        fLit += mo.T * chebyshev(mo, t + unbias);
+        fLit += mo.T * chebyshev(mo.ezf, mo.var, t + unbias);
         fA += mo.T;
       } else {
         lA += mo.T;  // no PCF: taken as lit, as plain variance shadow maps do

@@ -186,10 +186,11 @@ struct VssmRef {
     return tr[1] - tr[0] < gap;
   }
 
-  // Eq. 7.1 on one sub-kernel against its own threshold t, in the filter (shadowmap_vssm.glsl's
-  // chebyshev: Algorithm 3's pooled moments leak at grazing light; the search keeps them).
-  double chebyshev(const Moments& mo, double t) const {
-    const double d = t - mo.ez, var = variance(mo.ez, mo.ez2);
+  // Eq. 7.1: the lit fraction of depths of mean mu and variance var against threshold t; the
+  // filter takes it per sub-kernel, the search on the pooled moments (shadowmap_vssm.glsl's
+  // chebyshev says why).
+  static double chebyshev(double mu, double var, double t) {
+    const double d = t - mu;
     return d > 0 ? var / (var + d * d) : 1.0;
   }
 
@@ -247,7 +248,7 @@ struct VssmRef {
     if (sA > 0) {
       const double mu = sZ / sA, t = sT / sA, var = variance(mu, sZ2 / sA);
       if (mu < t) {
-        const double lit = var / (var + (t - mu) * (t - mu));
+        const double lit = chebyshev(mu, var, t);
         if (lit < 1.0 - 1e-6) {
           bVsm = (1.0 - lit) * sA;
           zVsm = (mu - lit * t) / (1.0 - lit) * bVsm;
@@ -285,7 +286,7 @@ struct VssmRef {
         if (mo.ez >= t && var < flat) {
           lA += mo.T;
         } else if (flat_t) {
-          fLit += mo.T * chebyshev(mo, t + unbias);
+          fLit += mo.T * chebyshev(mo.ez, var, t + unbias);
           fA += mo.T;
         } else if (level < s.vssm_h) {
           down = true;
@@ -294,7 +295,7 @@ struct VssmRef {
           fLit += mo.T * pcf(lo, hi, grid, q, g, tw, s.reach * k, nb, zb);
           fA += mo.T;
         } else if (mo.ez < t) {
-          fLit += mo.T * chebyshev(mo, t + unbias);
+          fLit += mo.T * chebyshev(mo.ez, var, t + unbias);
           fA += mo.T;
         } else {
           lA += mo.T;
