@@ -38,20 +38,26 @@ ISG_IO_BEGIN
 // against 0.01794 (128: 0.01792), reflections.isg at 1080p the same on isg-synth contact and
 // about 6 % slower on isg-synth gloss (issue 18).
 #define REFL_REUSE_RADIUS 64.0
-// Coarse taps (issue 18): refl.pack.* also hold, after the w·h texels of the image, one texel per
-// REFL_COARSE² cell (cells aligned to the image, ceil(w / REFL_COARSE) a row): a copy of the
-// cell's pixel min(REFL_COARSE·c + REFL_COARSE_PICK, last). A parameter search whose radius R_p
-// is at least REFL_COARSE_RADIUS pixels (lattice points ≥ 2·R_p / grid apart, 13 pixels for 5×5)
-// taps the cells: the point a tap lands on moves by up to REFL_COARSE_PICK + 1 pixels, and the
-// texels it reads, sixteen times fewer, stay in cache (search radii reach reflections.max_radius,
-// 256 pixels at the defaults).
+// Coarse taps (issue 18): refl.pack.* also hold, from texel REFL_COARSE_BASE (the image's w·h
+// rounded up to 16 texels, 256 bytes: reflections.pack binds the cells as a storage range of
+// their own, so each range stays within the device's storage-buffer range, llvmpipe's 128 MiB
+// holding a 3840×2160 frame's w·h texels but not w·h·17/16), one texel per REFL_COARSE² cell
+// (cells aligned to the image, ceil(w / REFL_COARSE) a row): a copy of the texels of the cell's
+// pixel min(REFL_COARSE·c + REFL_COARSE_PICK, last). A parameter search whose
+// radius R_p is at least REFL_COARSE_RADIUS pixels (lattice points ≥ 2·R_p / grid apart, 13
+// pixels for 5×5) taps the cells: the point a tap lands on moves by up to REFL_COARSE_PICK + 1
+// pixels, and the texels it reads, sixteen times fewer, stay in cache (search radii reach
+// reflections.max_radius, 256 pixels at the defaults).
 #define REFL_COARSE 4u
 #define REFL_COARSE_PICK 1u
 #define REFL_COARSE_RADIUS 32.0
 #define REFL_COARSE_GATHER 32.0
-// Cells a row of a w-pixel-wide image, and the texel of cell (cx, cy) in refl.pack.* (w x h).
+// Cells a row of a w-pixel-wide image; cell (cx, cy)'s texel from the cells' first (the pack's
+// storage range) and in refl.pack.* (w x h).
 #define REFL_COARSE_CELLS(w) (((w) + REFL_COARSE - 1u) / REFL_COARSE)
-#define REFL_COARSE_AT(w, h, cx, cy) ((w) * (h) + (cy) * REFL_COARSE_CELLS(w) + (cx))
+#define REFL_COARSE_BASE(w, h) (((w) * (h) + 15u) / 16u * 16u)
+#define REFL_COARSE_CELL(w, cx, cy) ((cy) * REFL_COARSE_CELLS(w) + (cx))
+#define REFL_COARSE_AT(w, h, cx, cy) (REFL_COARSE_BASE(w, h) + REFL_COARSE_CELL(w, cx, cy))
 #define REFL_REUSE_RATIO 1.25
 #define REFL_REUSE_COVER 0.5
 // refl.tiles (uint words) holds −(glossy pixels + REFL_STATS_SEARCHES · searches) for a tile that

@@ -2,8 +2,8 @@
 // Pass reflections.pack (issue 18): everything a tap of reflections.isg reads, packed into two
 // 16-byte texels per pixel so that a tap is two loads instead of about fifteen scattered floats
 // from planar buffers: refl.pack.geo = (P − eye as float bits, octahedral N) and
-// refl.pack.color = (refl, refl.dist or REFL_NO_REFLECTION); then the same for one pixel of each
-// REFL_COARSE² cell (the coarse taps of wide searches). Positions are relative to the
+// refl.pack.color = (refl, refl.dist or REFL_NO_REFLECTION); then the same, from
+// REFL_COARSE_BASE, for one pixel of each REFL_COARSE² cell (the coarse taps of wide searches). Positions are relative to the
 // camera (shaders/isg_view.h), so a scene far from the origin keeps its precision.
 #extension GL_GOOGLE_include_directive : require
 #include "reflections_isg_io.h"
@@ -18,6 +18,9 @@ layout(binding = 4) uniform samplerBuffer geo;  // P (3 planes) or Z
 layout(binding = 5) uniform samplerBuffer fg;
 layout(std430, binding = 6) writeonly buffer PackGeo { uvec4 pack_geo[]; };
 layout(std430, binding = 7) writeonly buffer PackColor { vec4 pack_color[]; };
+// The same buffers from texel REFL_COARSE_BASE: the cells.
+layout(std430, binding = 8) writeonly buffer CoarseGeo { uvec4 coarse_geo[]; };
+layout(std430, binding = 9) writeonly buffer CoarseColor { vec4 coarse_color[]; };
 layout(push_constant) uniform Push { ReflIsgPush pc; };
 
 void main() {
@@ -46,8 +49,8 @@ void main() {
   // The pixel its coarse cell copies (REFL_COARSE_PICK, or the image's last row / column).
   uvec2 cell = p / REFL_COARSE;
   if (p == min(cell * REFL_COARSE + REFL_COARSE_PICK, uvec2(pc.width, pc.height) - 1u)) {
-    uint j = REFL_COARSE_AT(pc.width, pc.height, cell.x, cell.y);
-    pack_geo[j] = g;
-    pack_color[j] = c;
+    uint j = REFL_COARSE_CELL(pc.width, cell.x, cell.y);
+    coarse_geo[j] = g;
+    coarse_color[j] = c;
   }
 }

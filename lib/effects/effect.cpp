@@ -13,8 +13,8 @@ void PlanOut::need(const std::string& name, int planes, bool upload) {
   resources_.push_back({name, planes, upload, plane_bytes_ * uint64_t(planes)});
 }
 
-void PlanOut::buffer(const std::string& name, uint64_t bytes) {
-  resources_.push_back({name, 1, false, bytes});
+void PlanOut::buffer(const std::string& name, uint64_t bytes, uint64_t range) {
+  resources_.push_back({name, 1, false, bytes, range});
 }
 
 int PlanOut::add(std::shared_ptr<Instance> inst) {

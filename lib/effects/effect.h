@@ -31,6 +31,7 @@ struct Resource {
   int planes = 1;
   bool upload = false;  // filled from the input image
   uint64_t bytes = 0;
+  uint64_t range = 0;  // the most bytes a pass binds of it as one storage buffer (0: bytes)
 };
 
 struct Pass {
@@ -104,7 +105,8 @@ class PlanOut {
   // An image-sized resource of `planes` planes (once per name).
   void need(const std::string& name, int planes, bool upload);
   // A resource of a given size (tile grids, shadow maps).
-  void buffer(const std::string& name, uint64_t bytes);
+  // `range`: the most bytes a pass binds as one storage buffer, where less than all of them.
+  void buffer(const std::string& name, uint64_t bytes, uint64_t range = 0);
   void status(EffectStatus s) { statuses_.push_back(std::move(s)); }
   // Adds the instance; returns its index for its passes.
   int add(std::shared_ptr<Instance> inst);

@@ -91,6 +91,7 @@ DeviceInfo describe(VkPhysicalDevice pd, uint32_t index) {
   d.type_name = type_name(p.deviceType);
   d.api_version = p.apiVersion;
   d.max_storage_buffer_range = p.limits.maxStorageBufferRange;
+  d.min_storage_buffer_offset_alignment = p.limits.minStorageBufferOffsetAlignment;
   d.max_texel_buffer_elements = p.limits.maxTexelBufferElements;
   for (int i = 0; i < 3; ++i) d.max_workgroup_count[i] = p.limits.maxComputeWorkGroupCount[i];
   d.max_image_dimension_2d = p.limits.maxImageDimension2D;

@@ -30,6 +30,7 @@ struct DeviceInfo {
   std::string type_name;  // "discrete", "integrated", "virtual", "cpu", "other"
   uint32_t api_version = 0;
   uint64_t max_storage_buffer_range = 0;
+  uint64_t min_storage_buffer_offset_alignment = 1;
   uint32_t max_texel_buffer_elements = 0;
   uint32_t max_workgroup_count[3] = {0, 0, 0};
   uint32_t max_image_dimension_2d = 0;
@@ -148,7 +149,13 @@ struct Binding {
   const Buffer* buffer = nullptr;
   const Image* image = nullptr;
   VkFormat format = VK_FORMAT_UNDEFINED;  // Slot::texels: the texel format of the view
+  // Slot::buffer: the bound range, from `offset` (a multiple of the device's
+  // minStorageBufferOffsetAlignment), `bytes` long (0: to the end).
+  VkDeviceSize offset = 0, bytes = 0;
   static Binding of(const Buffer& b) { return Binding{&b, nullptr}; }
+  static Binding part(const Buffer& b, VkDeviceSize offset, VkDeviceSize bytes) {
+    return Binding{&b, nullptr, VK_FORMAT_UNDEFINED, offset, bytes};
+  }
   static Binding of(const Image& i) { return Binding{nullptr, &i}; }
   // A texel view of the whole buffer (its size a multiple of the format's texel).
   static Binding texels(const Buffer& b, VkFormat f) { return Binding{&b, nullptr, f}; }

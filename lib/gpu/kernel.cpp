@@ -1,3 +1,4 @@
+#include <algorithm>
 #include <map>
 
 #include "gpu/gpu.h"
@@ -218,8 +219,23 @@ void Sequence::record(const Kernel& k, const std::vector<Binding>& bindings, con
     w.dstBinding = i;
     w.descriptorCount = 1;
     if (k.slots()[i] == Slot::buffer) {
-      if (!bindings[i].buffer) throw GpuError(k.name() + ": binding " + std::to_string(i) + " needs a buffer");
-      bufs[i] = {bindings[i].buffer->handle(), 0, VK_WHOLE_SIZE};
+      const Binding& bi = bindings[i];
+      if (!bi.buffer) throw GpuError(k.name() + ": binding " + std::to_string(i) + " needs a buffer");
+      const VkDeviceSize size = bi.buffer->size();
+      const VkDeviceSize range = bi.bytes ? bi.bytes : size - std::min(bi.offset, size);
+      const auto& info = ctx_.info();
+      if (bi.offset + range > size || range == 0 ||
+          bi.offset % std::max<uint64_t>(1, info.min_storage_buffer_offset_alignment) != 0) {
+        throw GpuError(k.name() + ": binding " + std::to_string(i) + ": bytes " +
+                       std::to_string(bi.offset) + "+" + std::to_string(range) + " of " +
+                       std::to_string(size) + " is not an aligned range of the buffer");
+      }
+      if (range > info.max_storage_buffer_range) {
+        throw GpuError(k.name() + ": binding " + std::to_string(i) + ": " + std::to_string(range) +
+                       " bytes exceeds the device's storage buffer range (" +
+                       std::to_string(info.max_storage_buffer_range) + ")");
+      }
+      bufs[i] = {bi.buffer->handle(), bi.offset, range};
       w.descriptorType = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
       w.pBufferInfo = &bufs[i];
     } else if (k.slots()[i] == Slot::texels) {

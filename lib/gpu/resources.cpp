@@ -70,11 +70,6 @@ void barrier_all(VkCommandBuffer cmd) {
 Buffer::Buffer(Context& ctx, VkDeviceSize bytes, const std::string& debug_name, Init init)
     : ctx_(&ctx) {
   if (bytes == 0) bytes = 4;
-  if (bytes > ctx.info().max_storage_buffer_range) {
-    throw GpuError(debug_name + ": " + std::to_string(bytes) +
-                   " bytes exceeds the device's storage buffer range (" +
-                   std::to_string(ctx.info().max_storage_buffer_range) + ")");
-  }
   size_ = bytes;
   VkBufferCreateInfo bi{VK_STRUCTURE_TYPE_BUFFER_CREATE_INFO};
   bi.size = bytes;

@@ -173,8 +173,11 @@ int tile_edge(const gpu::Context& ctx, const JobConfig& job, const LoadedFrame& 
   int64_t t = job.params.get(effects::output_keys::tile_size);
   if (t == 0) {
     const auto& info = ctx.info();
-    uint64_t largest = 0;
-    for (const auto& r : f.plan.resources) largest = std::max(largest, r.bytes);
+    uint64_t largest = 0, largest_range = 0;
+    for (const auto& r : f.plan.resources) {
+      largest = std::max(largest, r.bytes);
+      largest_range = std::max(largest_range, r.range ? r.range : r.bytes);
+    }
     const double px = double(W) * double(H);
     // A discrete GPU's memory is shared with the display and other processes: half of it. On
     // unified memory the heap is host memory as the driver states it (lavapipe: a nominal 2 GiB)
@@ -182,12 +185,12 @@ int tile_edge(const gpu::Context& ctx, const JobConfig& job, const LoadedFrame& 
     // instead of four tiles whose aprons cost half again the GPU time.
     const double share = ctx.unified_memory() ? 1.0 : 0.5;
     const double budget = info.device_local_bytes ? share * double(info.device_local_bytes) : 1e300;
-    // The largest buffer a pass binds: as a storage buffer, and as a texel view of 4-byte texels
-    // (the gathers read their planes through texel views: gpu.h's Slot::texels).
-    double range = info.max_storage_buffer_range ? double(info.max_storage_buffer_range) : 1e300;
-    if (info.max_texel_buffer_elements)
-      range = std::min(range, 4.0 * double(info.max_texel_buffer_elements));
-    const double fit = std::min(budget / (double(f.plan.gpu_bytes()) / px), range / (double(largest) / px));
+    // The largest range a pass binds as a storage buffer, and the largest buffer as a texel view
+    // of 4-byte texels (the gathers read their planes through texel views: gpu.h's Slot::texels).
+    const double range = info.max_storage_buffer_range ? double(info.max_storage_buffer_range) : 1e300;
+    const double texels = info.max_texel_buffer_elements ? 4.0 * double(info.max_texel_buffer_elements) : 1e300;
+    const double fit = std::min({budget / (double(f.plan.gpu_bytes()) / px),
+                                 range / (double(largest_range) / px), texels / (double(largest) / px)});
     if (fit >= px) return 0;
     t = std::max<int64_t>(64, int64_t(std::sqrt(fit)) - 2 * int64_t(f.plan.reach));
   }

@@ -106,10 +106,11 @@ class Reflections final : public Effect {
       reads.push_back("roughness");
     }
     // reflections.pack: the taps' data, two 16-byte texels a pixel and a coarse cell
-    // (reflections.isg's input).
-    const uint64_t pack_bytes = refl_pack_texels(uint32_t(c.width), uint32_t(c.height)) * 16;
-    out.buffer("refl.pack.geo", pack_bytes);
-    out.buffer("refl.pack.color", pack_bytes);
+    // (reflections.isg's input), bound as storage in two ranges, the pixels' the larger.
+    const uint32_t w = uint32_t(c.width), h = uint32_t(c.height);
+    const uint64_t pack_bytes = refl_pack_texels(w, h) * 16;
+    out.buffer("refl.pack.geo", pack_bytes, uint64_t(w) * h * 16);
+    out.buffer("refl.pack.color", pack_bytes, uint64_t(w) * h * 16);
     out.pass("reflections", k, "reflections.pack", "reflections.pack", reads,
              {"refl.pack.geo", "refl.pack.color"});
     reads = {"refl.pack.geo", "refl.pack.color"};

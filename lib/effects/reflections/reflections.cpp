@@ -345,7 +345,8 @@ ReflectionsPass::ReflectionsPass(gpu::Context& ctx, const ReflSettings& s)
     : s_(s),
       pack_(ctx, "reflections.pack", isg_spv_reflections_pack,
             {gpu::Slot::texels, gpu::Slot::texels, gpu::Slot::texels, gpu::Slot::texels,
-             gpu::Slot::texels, gpu::Slot::texels, gpu::Slot::buffer, gpu::Slot::buffer},
+             gpu::Slot::texels, gpu::Slot::texels, gpu::Slot::buffer, gpu::Slot::buffer,
+             gpu::Slot::buffer, gpu::Slot::buffer},
             sizeof(shaders::ReflIsgPush),
             REFL_PACK_LOCAL, 1),
       list_(ctx, "reflections.list", isg_spv_reflections_list,
@@ -400,11 +401,15 @@ void ReflectionsPass::record_pack(gpu::Sequence& seq, const ReflBuffers& b, uint
                                   uint32_t h, const std::string& label) {
   const bool has_rough = b.rough && !s_.roughness_override;
   const auto pc = push(w, h, b.has_position, has_rough);
+  // Two storage ranges of each buffer: the pixels' texels, and the coarse cells' from
+  // REFL_COARSE_BASE (each within the device's storage-buffer range).
+  const VkDeviceSize pixels = VkDeviceSize(w) * h * 16, cells = VkDeviceSize(REFL_COARSE_BASE(w, h)) * 16;
   seq.dispatch(pack_,
                {gpu::Binding::floats(b.refl), gpu::Binding::floats(b.dist),
                 gpu::Binding::floats(b.weight), gpu::Binding::floats(b.normal),
                 gpu::Binding::floats(b.geo), gpu::Binding::floats(b.fg),
-                gpu::Binding::of(b.pack_geo), gpu::Binding::of(b.pack_color)},
+                gpu::Binding::part(b.pack_geo, 0, pixels), gpu::Binding::part(b.pack_color, 0, pixels),
+                gpu::Binding::part(b.pack_geo, cells, 0), gpu::Binding::part(b.pack_color, cells, 0)},
                pc, w, h, label);
 }
 
