@@ -192,7 +192,10 @@ int tile_edge(const gpu::Context& ctx, const JobConfig& job, const LoadedFrame& 
     const double fit = std::min({budget / (double(f.plan.gpu_bytes()) / px),
                                  range / (double(largest_range) / px), texels / (double(largest) / px)});
     if (fit >= px) return 0;
-    t = std::max<int64_t>(64, int64_t(std::sqrt(fit)) - 2 * int64_t(f.plan.reach));
+    // A piece is the tile and its aprons, each apron the reach in whole 16-pixel steps
+    // (execute_tiled): the tile's edge rounds down so that the piece stays within the fit.
+    const int64_t apron = (int64_t(f.plan.reach) + 15) / 16 * 16;
+    t = std::max<int64_t>(64, (int64_t(std::sqrt(fit)) - 2 * apron) / 16 * 16);
   }
   t = (t + 15) / 16 * 16;
   return t >= std::max(W, H) ? 0 : int(t);
