@@ -43,11 +43,11 @@ ISG_IO_BEGIN
 // their own, so each range stays within the device's storage-buffer range, llvmpipe's 128 MiB
 // holding a 3840×2160 frame's w·h texels but not w·h·17/16), one texel per REFL_COARSE² cell
 // (cells aligned to the image, ceil(w / REFL_COARSE) a row): a copy of the texels of the cell's
-// pixel min(REFL_COARSE·c + REFL_COARSE_PICK, last). A parameter search whose
-// radius R_p is at least REFL_COARSE_RADIUS pixels (lattice points ≥ 2·R_p / grid apart, 13
-// pixels for 5×5) taps the cells: the point a tap lands on moves by up to REFL_COARSE_PICK + 1
-// pixels, and the texels it reads, sixteen times fewer, stay in cache (search radii reach
-// reflections.max_radius, 256 pixels at the defaults).
+// pixel min(REFL_COARSE·c + REFL_COARSE_PICK, last). A parameter search whose radius R_p is at
+// least REFL_COARSE_RADIUS pixels (lattice points ≥ 2·R_p / grid apart, 13 pixels for 5×5) taps
+// the cells: the point a tap lands on moves by up to REFL_COARSE_PICK + 1 pixels, and the texels
+// it reads, sixteen times fewer, stay in cache (search radii reach reflections.max_radius, 256
+// pixels at the defaults).
 #define REFL_COARSE 4u
 #define REFL_COARSE_PICK 1u
 #define REFL_COARSE_RADIUS 32.0

@@ -3,8 +3,9 @@
 // 16-byte texels per pixel so that a tap is two loads instead of about fifteen scattered floats
 // from planar buffers: refl.pack.geo = (P − eye as float bits, octahedral N) and
 // refl.pack.color = (refl, refl.dist or REFL_NO_REFLECTION); then the same, from
-// REFL_COARSE_BASE, for one pixel of each REFL_COARSE² cell (the coarse taps of wide searches). Positions are relative to the
-// camera (shaders/isg_view.h), so a scene far from the origin keeps its precision.
+// REFL_COARSE_BASE, for one pixel of each REFL_COARSE² cell (the coarse taps of wide searches).
+// Positions are relative to the camera (shaders/isg_view.h), so a scene far from the origin
+// keeps its precision.
 #extension GL_GOOGLE_include_directive : require
 #include "reflections_isg_io.h"
 #include "isg_view.h"

@@ -111,6 +111,8 @@ TEST_F(GpuTest, StorageRangesOfABufferOverTheDeviceLimit) {
   gpu::Kernel copy(ctx(), "shadows.hard", isg_spv_shadows_hard, {gpu::Slot::buffer, gpu::Slot::buffer},
                    sizeof(isg::shaders::ShadowsHardPush), SHADOWS_HARD_LOCAL, SHADOWS_HARD_LOCAL);
   isg::shaders::ShadowsHardPush pc{w, h};
+  // The first aligned offset wholly past the storage range.
+  const VkDeviceSize at = (info.max_storage_buffer_range + 2 * align - 1) / align * align;
   {
     gpu::Sequence seq(ctx());
     EXPECT_THROW(seq.dispatch(copy, {gpu::Binding::of(in), gpu::Binding::of(big)}, pc, w, h, "whole"),
@@ -120,13 +122,13 @@ TEST_F(GpuTest, StorageRangesOfABufferOverTheDeviceLimit) {
                                 pc, w, h, "misaligned"),
                    gpu::GpuError);
     }
-    EXPECT_THROW(seq.dispatch(copy, {gpu::Binding::of(in), gpu::Binding::part(big, big_bytes - align, n * 4)},
+    // An aligned offset whose range runs 4 bytes past the buffer's end.
+    EXPECT_THROW(seq.dispatch(copy, {gpu::Binding::of(in), gpu::Binding::part(big, at, big_bytes - at + 4)},
                               pc, w, h, "past the end"),
                  gpu::GpuError);
   }
-  // A range wholly past the storage range, bound to its end: the pass writes there and nowhere
-  // else.
-  const VkDeviceSize at = (info.max_storage_buffer_range + 2 * align - 1) / align * align;
+  // The range wholly past the storage range, bound to the buffer's end: the pass writes there
+  // and nowhere else.
   gpu::Sequence seq(ctx());
   seq.dispatch(copy, {gpu::Binding::of(in), gpu::Binding::part(big, at, 0)}, pc, w, h, "tail");
   seq.submit();

@@ -108,9 +108,9 @@ class Reflections final : public Effect {
     // reflections.pack: the taps' data, two 16-byte texels a pixel and a coarse cell
     // (reflections.isg's input), bound as storage in two ranges, the pixels' the larger.
     const uint32_t w = uint32_t(c.width), h = uint32_t(c.height);
-    const uint64_t pack_bytes = refl_pack_texels(w, h) * 16;
-    out.buffer("refl.pack.geo", pack_bytes, uint64_t(w) * h * 16);
-    out.buffer("refl.pack.color", pack_bytes, uint64_t(w) * h * 16);
+    const uint64_t pack_bytes = refl_pack_texels(w, h) * 16, pixel_bytes = uint64_t(w) * h * 16;
+    out.buffer("refl.pack.geo", pack_bytes, pixel_bytes);
+    out.buffer("refl.pack.color", pack_bytes, pixel_bytes);
     out.pass("reflections", k, "reflections.pack", "reflections.pack", reads,
              {"refl.pack.geo", "refl.pack.color"});
     reads = {"refl.pack.geo", "refl.pack.color"};
