@@ -20,11 +20,14 @@ layout(binding = 3) uniform samplerBuffer samples;
 layout(std430, binding = 4) writeonly buffer Glossy { float glossy[]; };
 layout(std430, binding = 5) buffer Tiles { uint tiles[]; };  // refl.tiles (reflections.list)
 layout(push_constant) uniform Push { ReflIsgPush pc; };
+// Settings that choose code paths (reflections_isg_io.h): compiled in, not branched on.
+layout(constant_id = 0) const uint REFL_FLAGS = 0u;
+layout(constant_id = 1) const uint REFL_MODE = REFL_MODE_ISG;
 
 shared uint tile_glossy;  // glossy pixels in the tile
 shared uint glossy_bits[REFL_TILE * REFL_TILE / 32u];  // bit per pixel of the tile: glossy
 
-float roughness_at(uint i) { return (pc.flags & REFL_HAS_ROUGHNESS) != 0u ? texelFetch(rough, int(i)).r : pc.roughness; }
+float roughness_at(uint i) { return (REFL_FLAGS & REFL_HAS_ROUGHNESS) != 0u ? texelFetch(rough, int(i)).r : pc.roughness; }
 // A pixel holds reflection data to gather from: foreground with a non-zero weight.
 bool has_refl(vec4 c) { return c.w >= 0.0; }
 bool is_glossy(uint i) { return has_refl(texelFetch(pack_color, int(i))) && roughness_at(i) > REFL_MIN_ROUGHNESS; }
@@ -106,12 +109,12 @@ Lobe lobe_at(uvec2 p, uint i) {
   // Footprint axes: along the screen image of the plane of incidence the lobe keeps its width;
   // across it the reflected lobe narrows by cos θ_incident (eq. 14 on that axis only).
   vec2 d_maj = vec2(1.0, 0.0);
-  if ((pc.flags & 4u) != 0u) {
+  if ((REFL_FLAGS & REFL_ANISOTROPIC) != 0u) {
     vec2 d = project(L.P0 + L.N0 * (0.01 * L.e)) - project(L.P0);
     if (length(d) > 1e-6) d_maj = normalize(d);
   }
   vec2 d_min = vec2(-d_maj.y, d_maj.x);
-  float maj = (pc.flags & 4u) != 0u ? 1.0 : L.cos_i;
+  float maj = (REFL_FLAGS & REFL_ANISOTROPIC) != 0u ? 1.0 : L.cos_i;
   L.F = mat2(maj * d_maj, L.cos_i * d_min) * pixel_rotation(p);
   return L;
 }
@@ -124,7 +127,7 @@ vec2 search_sums(Lobe L, uint i, uint part, uint parts) {
   float d0 = texelFetch(pack_color, int(i)).w;
   float st = d0 > 0.0 ? d0 / (L.e + d0) : 1.0;
   float sw = 1.0;
-  if ((d0 <= 0.0 && (pc.flags & 8u) == 0u) || part != 0u) { st = 0.0; sw = 0.0; }
+  if ((d0 <= 0.0 && (REFL_FLAGS & REFL_SEARCH_MISSES) == 0u) || part != 0u) { st = 0.0; sw = 0.0; }
   uint gs = pc.grids & 0xffffu;
   mat2 FR = L.R_p * L.F;
   bool coarse = L.R_p >= REFL_COARSE_RADIUS;
@@ -135,11 +138,11 @@ vec2 search_sums(Lobe L, uint i, uint part, uint parts) {
     vec4 c = texelFetch(pack_color, int(t));
     if (!has_refl(c)) continue;
     float dj = c.w;
-    if (dj <= 0.0 && (pc.flags & 8u) == 0u) continue;
+    if (dj <= 0.0 && (REFL_FLAGS & REFL_SEARCH_MISSES) == 0u) continue;
     float tj = dj > 0.0 ? dj / (L.e + dj) : 1.0;
     float w = range_fn(texelFetch(pack_geo, int(t)), L.P0, L.N0);
     // Reach: only reflections whose own footprint (radius t_j·R_full) covers p_0.
-    if ((pc.flags & 1u) != 0u) w *= clamp(tj * L.R_full - u.z * L.R_p + 0.5, 0.0, 1.0);
+    if ((REFL_FLAGS & REFL_SEARCH_REACH) != 0u) w *= clamp(tj * L.R_full - u.z * L.R_p + 0.5, 0.0, 1.0);
     st += w * tj;
     sw += w;
   }
@@ -166,7 +169,7 @@ Foot footprint(Lobe L, float t_bar) {
 // enough that the incident angle is the mirror's): albedo 1 / (1 + 2·Λ(θ_i)).
 float albedo_of(Lobe L) {
   float tan2 = (1.0 - L.cos_i * L.cos_i) / (L.cos_i * L.cos_i);
-  return (pc.flags & 16u) != 0u ? 1.0 / sqrt(1.0 + L.alpha * L.alpha * tan2) : 1.0;
+  return (REFL_FLAGS & REFL_MASKING) != 0u ? 1.0 / sqrt(1.0 + L.alpha * L.alpha * tan2) : 1.0;
 }
 
 // Gather (eq. 4): the weighted mean of refl over the lobe, the centre pixel included. The samples
@@ -293,7 +296,7 @@ void main() {
   // part + 4, ... of quad q's lattice (whole SIMD rows of llvmpipe and whole warps on one part);
   // the partial sums are added in a fixed order. Then the blocks' wide gathers, over sixteen
   // lanes each. The condition is uniform. (Every tile here holds a glossy pixel: reflections.list.)
-  if (pc.mode == REFL_MODE_ISG) {
+  if (REFL_MODE == REFL_MODE_ISG) {
     uint q = gl_LocalInvocationIndex % (REFL_QUADS * REFL_QUADS);
     uint part = gl_LocalInvocationIndex / (REFL_QUADS * REFL_QUADS);
     uvec2 base = wg * REFL_TILE + 2u * uvec2(q % REFL_QUADS, q / REFL_QUADS);
@@ -350,7 +353,7 @@ void main() {
   }
   barrier();
   vec3 c = inside ? texelFetch(pack_color, int(i)).rgb : vec3(0.0);
-  if (g) c = pc.mode == REFL_MODE_BLUR ? refl_blur(p, i) : refl_isg(p, i);
+  if (g) c = REFL_MODE == REFL_MODE_BLUR ? refl_blur(p, i) : refl_isg(p, i);
   barrier();
   // The tile records how many pixels were glossy, how many searches and how many gathers ran
   // (the statistics behind --timings; the gathers in the second half of refl.tiles); the tiles

@@ -9,9 +9,14 @@ ISG_IO_BEGIN
 // refl.pack.color's w for a pixel with nothing to gather (background or refl.weight 0); hits
 // keep refl.dist > 0, misses 0.
 #define REFL_NO_REFLECTION -1.0
-// Modes of pass reflections.isg.
+// The passes' settings are specialization constants (gpu::Kernel): constant 0 the flags below,
+// constant 1 the mode of reflections.isg.
 #define REFL_MODE_ISG 0u   // parameter search (eq. 4, 10-12) then gather (eq. 13, 14)
 #define REFL_MODE_BLUR 1u  // the naive alternative: a constant-width disk blur of refl
+#define REFL_SEARCH_REACH 1u    // the search counts only reflections whose footprint covers p_0
+#define REFL_ANISOTROPIC 4u     // the footprint narrows across the plane of incidence (eq. 14)
+#define REFL_SEARCH_MISSES 8u   // misses (no refl.dist) count in the search, as t = 1
+#define REFL_MASKING 16u        // the lobe's masking-shadowing albedo
 #define REFL_HAS_POSITION 32u   // P is given (else from depth and the camera)
 #define REFL_HAS_ROUGHNESS 64u  // the roughness channel (else the preset's everywhere)
 // The sample lattice's rotation (the pixel hash's angle) is shared by the pixels of each
@@ -76,9 +81,6 @@ struct ReflIsgPush {
   uint height;
   uint grids;          // search grid | gather grid << 16: samples = grid², concentric disk
   uint origin;         // the image's origin in the frame, x | y << 16 (the pixel hash's)
-  uint mode;           // REFL_MODE_*
-  uint flags;          // bits: 1 search reach, 4 anisotropic, 8 misses in search, 16 masking,
-                       // REFL_HAS_POSITION, REFL_HAS_ROUGHNESS
   float cx;            // principal point, frame pixels (pixel coordinates here are the frame's)
   float cy;
   float roughness;     // preset roughness (where the channel is absent or overridden)

@@ -10,6 +10,8 @@ layout(binding = 0) uniform samplerBuffer pack_color;  // refl, dist (reflection
 layout(binding = 1) uniform samplerBuffer rough;
 layout(std430, binding = 2) buffer Tiles { uint tiles[]; };
 layout(push_constant) uniform Push { ReflIsgPush pc; };
+// Settings that choose code paths (REFL_HAS_*): compiled in, not branched on.
+layout(constant_id = 0) const uint REFL_FLAGS = 0u;
 
 void main() {
   uint tiles_x = (pc.width + REFL_TILE - 1u) / REFL_TILE;
@@ -22,7 +24,7 @@ void main() {
   for (int y = t0.y; y < end.y && !glossy; ++y)
     for (int x = t0.x; x < end.x; ++x) {
       int i = y * int(pc.width) + x;
-      float r = (pc.flags & REFL_HAS_ROUGHNESS) != 0u ? texelFetch(rough, i).r : pc.roughness;
+      float r = (REFL_FLAGS & REFL_HAS_ROUGHNESS) != 0u ? texelFetch(rough, i).r : pc.roughness;
       if (texelFetch(pack_color, i).w >= 0.0 && r > REFL_MIN_ROUGHNESS) glossy = true;
     }
   if (glossy) {

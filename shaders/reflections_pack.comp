@@ -23,6 +23,8 @@ layout(std430, binding = 7) writeonly buffer PackColor { vec4 pack_color[]; };
 layout(std430, binding = 8) writeonly buffer CoarseGeo { uvec4 coarse_geo[]; };
 layout(std430, binding = 9) writeonly buffer CoarseColor { vec4 coarse_color[]; };
 layout(push_constant) uniform Push { ReflIsgPush pc; };
+// Settings that choose code paths (REFL_HAS_*): compiled in, not branched on.
+layout(constant_id = 0) const uint REFL_FLAGS = 0u;
 
 void main() {
   uvec2 p = gl_GlobalInvocationID.xy;
@@ -30,7 +32,7 @@ void main() {
   uint n = pc.width * pc.height, i = p.y * pc.width + p.x;
   mat3 rot = mat3(pc.r00, pc.r10, pc.r20, pc.r01, pc.r11, pc.r21, pc.r02, pc.r12, pc.r22);
   vec3 rel;
-  if ((pc.flags & REFL_HAS_POSITION) != 0u) {
+  if ((REFL_FLAGS & REFL_HAS_POSITION) != 0u) {
     rel = isg_rel_from_world(isg_at3(geo, i, n), vec3(pc.eye_x, pc.eye_y, pc.eye_z),
                              vec3(pc.eye_lo_x, pc.eye_lo_y, pc.eye_lo_z));
   } else {

@@ -16,6 +16,8 @@ layout(std430, binding = 3) writeonly buffer Soft { float soft[]; };
 layout(binding = 4) uniform samplerBuffer samples;
 layout(binding = 5) uniform samplerBuffer shadow_in;  // for the background
 layout(push_constant) uniform Push { ShadowsIsgPush pc; };
+// SHADOWS_ISG_* settings: compiled in, not branched on (gpu::Kernel).
+layout(constant_id = 0) const uint FLAGS = 0u;
 
 const float PI = 3.14159265358979;
 shared uint s_rp;     // the tile's largest search radius (float bits)
@@ -62,7 +64,7 @@ vec3 axis_diff(uvec2 p, vec3 P0, uvec2 e) {
 // wl onto the plane across the ray (sphere lights: the silhouette faces every receiver) or onto
 // the light's own plane (disk and rect lights).
 float across(vec3 dP, vec3 wl) {
-  if ((pc.flags & SHADOWS_ISG_ORIENTED) == 0u) {
+  if ((FLAGS & SHADOWS_ISG_ORIENTED) == 0u) {
     float a = dot(dP, wl);
     return sqrt(max(dot(dP, dP) - a * a, 0.0));  // |dP − (dP·wl) wl| for a unit wl
   }
@@ -122,7 +124,7 @@ Recv receiver(uvec2 p, vec3 P0) {
 // min(raw, max_radius) along R.dir and min(raw·c, max_radius) across it, so that every sample
 // lands where the penumbra can reach (a disk of the long radius would waste 1 − c of them).
 mat2 lattice(uvec2 p, Recv R, float raw) {
-  float ang = (pc.flags & SHADOWS_ISG_ROTATE) != 0u ? isg_pixel_angle(p + uvec2(pc.origin & 0xffffu, pc.origin >> 16)) : 0.0;
+  float ang = (FLAGS & SHADOWS_ISG_ROTATE) != 0u ? isg_pixel_angle(p + uvec2(pc.origin & 0xffffu, pc.origin >> 16)) : 0.0;
   float ca = cos(ang), sa = sin(ang);
   float a = min(raw, pc.max_radius), b = min(raw * R.c, pc.max_radius), o = (a - b) * R.dir.x * R.dir.y;
   mat2 E = mat2(a * R.dir.x * R.dir.x + b * R.dir.y * R.dir.y, o, o, a * R.dir.y * R.dir.y + b * R.dir.x * R.dir.x);
@@ -161,7 +163,7 @@ vec2 search_sums(Recv R, uvec2 p, uint i, float Rp, uint part, uint parts) {
       float bw = ((j & 1) != 0 ? f.x : 1.0 - f.x) * ((j >> 1) != 0 ? f.y : 1.0 - f.y);
       float r = range_l2(dot(dP, dP)) * (1.0 - Tt.w) * bw;
       float l = across(dP, R.wl);
-      if ((pc.flags & SHADOWS_ISG_SEARCH_REACH) != 0u) {
+      if ((FLAGS & SHADOWS_ISG_SEARCH_REACH) != 0u) {
         // PCSS's blocker test in image space: the occluder's own penumbra reaches p_0.
         float Rt = penumbra(ot, length(light() - Tt.xyz));
         r *= clamp((SHADOWS_ISG_REACH * Rt + R.pix - l) * R.inv_pix, 0.0, 1.0);
@@ -314,7 +316,7 @@ void main() {
     atomicMax(s_dloc, tiles[nt + t]);
   }
   barrier();
-  bool cheap = (pc.flags & SHADOWS_ISG_TILE_SKIP) != 0u &&
+  bool cheap = (FLAGS & SHADOWS_ISG_TILE_SKIP) != 0u &&
                s_reach != (SHADOWS_ISG_FLAG_LIT | SHADOWS_ISG_FLAG_SHADOW);
   if (gl_LocalInvocationIndex == 0u) tiles[2u * nt + tile] = cheap ? 1u : 0u;
   // Eq. 5: the search radius R_p covers the widest penumbra the occluders around can cast.

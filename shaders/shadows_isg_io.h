@@ -52,7 +52,8 @@ ISG_IO_BEGIN
 // nothing's): a cap of 5 gave grazing 0.42, lowlight 0.515, shared rowdepth 0.209; 2 gave 0.38,
 // 0.519, 0.201; no stretch 0.35, 0.551, 0.187.
 #define SHADOWS_ISG_MAX_STRETCH 2.0
-// Flags of ShadowsIsgPush.flags.
+// Settings of shadows.isg: its specialization constant 0 (SHADOWS_ISG_HAS_POSITION alone that of
+// shadows.isg.tiles; SHADOWS_ISG_TILE_SKIP the list's push constant).
 #define SHADOWS_ISG_ROTATE 1u       // rotate the sample grid per pixel (pixel hash)
 #define SHADOWS_ISG_SEARCH_REACH 2u // the search counts only occluders whose penumbra reaches p_0
 #define SHADOWS_ISG_TILE_SKIP 4u    // tiles with no shadow boundary within reach take the cheap path
@@ -64,7 +65,6 @@ struct ShadowsIsgPush {
   uint height;
   uint grids;         // search grid | gather grid << 16: samples = grid², concentric disk
   uint origin;         // the image's origin in the frame, x | y << 16 (the pixel hash's)
-  uint flags;          // SHADOWS_ISG_*
   float cx;            // principal point, frame pixels (pixel coordinates here are the frame's)
   float light_size;    // L of eq. 5 and 8: the light's radius in world units
   float inv_sigma;     // 1 / σ of eq. 6 (l in units of scene_radius)
@@ -95,7 +95,6 @@ struct ShadowsIsgTilesPush {
   uint width;
   uint height;
   uint origin;         // as ShadowsIsgPush
-  uint flags;          // SHADOWS_ISG_HAS_POSITION
   float cx;            // principal point, frame pixels
   float cy;
   float f_px;

@@ -17,6 +17,8 @@ layout(binding = 3) uniform samplerBuffer fg;
 layout(std430, binding = 4) buffer Tiles { uint tiles[]; };
 layout(std430, binding = 5) writeonly buffer Pack { vec4 pack[]; };
 layout(push_constant) uniform Push { ShadowsIsgTilesPush pc; };
+// SHADOWS_ISG_HAS_POSITION or 0: compiled in, not branched on (gpu::Kernel).
+layout(constant_id = 0) const uint FLAGS = 0u;
 
 shared uint s_flags;
 shared uint s_dmax;
@@ -38,7 +40,7 @@ void main() {
       // Positive floats order as their bits.
       float o = isg_at(occluder, i);
       if (s < 1.0 && o > 0.0) atomicMax(s_dmax, floatBitsToUint(o));
-      if ((pc.flags & SHADOWS_ISG_HAS_POSITION) != 0u) {
+      if ((FLAGS & SHADOWS_ISG_HAS_POSITION) != 0u) {
         rel = isg_rel_from_world(isg_at3(geo, i, n), vec3(pc.eye_x, pc.eye_y, pc.eye_z),
                                  vec3(pc.eye_lo_x, pc.eye_lo_y, pc.eye_lo_z));
       } else {

@@ -180,10 +180,16 @@ struct Pipeline {
   ~Pipeline();
 };
 
+// `constants`: the shader's specialization constants, constant_id k = constants[k] (32-bit
+// each). A setting that chooses between code paths is one: the driver compiles only the path
+// taken. On lavapipe that is what makes it cost nothing, since llvmpipe (Mesa 22) executes both
+// sides of every branch under a lane mask. Only a loop's further iterations are skipped. Issue
+// 18's measurements are in docs/design.md.
 class Kernel {
  public:
   Kernel(Context& ctx, std::string name, std::span<const uint32_t> spirv,
-         std::vector<Slot> slots, uint32_t push_bytes, uint32_t local_x, uint32_t local_y);
+         std::vector<Slot> slots, uint32_t push_bytes, uint32_t local_x, uint32_t local_y,
+         std::vector<uint32_t> constants = {});
   Kernel(const Kernel&) = delete;
   Kernel& operator=(const Kernel&) = delete;
 
@@ -201,6 +207,26 @@ class Kernel {
   std::vector<Slot> slots_;
   uint32_t push_bytes_, local_x_, local_y_;
   std::shared_ptr<const Pipeline> p_;
+};
+
+// The kernels of one SPIR-V, one per value of its specialization constants, each made on first
+// use (the Context shares their pipelines).
+class KernelVariants {
+ public:
+  KernelVariants(Context& ctx, std::string name, std::span<const uint32_t> spirv,
+                 std::vector<Slot> slots, uint32_t push_bytes, uint32_t local_x,
+                 uint32_t local_y)
+      : ctx_(ctx), name_(std::move(name)), spirv_(spirv), slots_(std::move(slots)),
+        push_bytes_(push_bytes), local_x_(local_x), local_y_(local_y) {}
+  const Kernel& at(const std::vector<uint32_t>& constants);
+
+ private:
+  Context& ctx_;
+  std::string name_;
+  std::span<const uint32_t> spirv_;
+  std::vector<Slot> slots_;
+  uint32_t push_bytes_, local_x_, local_y_;
+  std::map<std::vector<uint32_t>, std::unique_ptr<Kernel>> made_;
 };
 
 struct PassTime {
@@ -310,11 +336,12 @@ class Context {
   // The pipeline of this SPIR-V with these slots and push constants: built on first use, then
   // shared (Kernel's constructor); `built_pipelines` counts the builds.
   std::shared_ptr<const Pipeline> pipeline(const std::string& name, std::span<const uint32_t> spirv,
-                                           const std::vector<Slot>& slots, uint32_t push_bytes);
+                                           const std::vector<Slot>& slots, uint32_t push_bytes,
+                                           const std::vector<uint32_t>& constants = {});
   size_t built_pipelines() const { return pipelines_.size(); }
 
  private:
-  std::map<std::tuple<const uint32_t*, size_t, std::vector<Slot>, uint32_t>,
+  std::map<std::tuple<const uint32_t*, size_t, std::vector<Slot>, uint32_t, std::vector<uint32_t>>,
            std::shared_ptr<const Pipeline>>
       pipelines_;
   void release();

@@ -31,9 +31,20 @@ uint32_t texel_bytes(VkFormat f) {
 }  // namespace
 
 Kernel::Kernel(Context& ctx, std::string name, std::span<const uint32_t> spirv,
-               std::vector<Slot> slots, uint32_t push_bytes, uint32_t local_x, uint32_t local_y)
+               std::vector<Slot> slots, uint32_t push_bytes, uint32_t local_x, uint32_t local_y,
+               std::vector<uint32_t> constants)
     : name_(std::move(name)), slots_(std::move(slots)), push_bytes_(push_bytes),
-      local_x_(local_x), local_y_(local_y), p_(ctx.pipeline(name_, spirv, slots_, push_bytes)) {}
+      local_x_(local_x), local_y_(local_y),
+      p_(ctx.pipeline(name_, spirv, slots_, push_bytes, constants)) {}
+
+const Kernel& KernelVariants::at(const std::vector<uint32_t>& constants) {
+  auto it = made_.find(constants);
+  if (it == made_.end())
+    it = made_.emplace(constants, std::make_unique<Kernel>(ctx_, name_, spirv_, slots_, push_bytes_,
+                                                           local_x_, local_y_, constants))
+             .first;
+  return *it->second;
+}
 
 Pipeline::~Pipeline() {
   if (pipeline) vkDestroyPipeline(device, pipeline, nullptr);
@@ -45,8 +56,9 @@ Pipeline::~Pipeline() {
 std::shared_ptr<const Pipeline> Context::pipeline(const std::string& name,
                                                   std::span<const uint32_t> spirv,
                                                   const std::vector<Slot>& slots,
-                                                  uint32_t push_bytes) {
-  auto key = std::make_tuple(spirv.data(), spirv.size(), slots, push_bytes);
+                                                  uint32_t push_bytes,
+                                                  const std::vector<uint32_t>& constants) {
+  auto key = std::make_tuple(spirv.data(), spirv.size(), slots, push_bytes, constants);
   auto it = pipelines_.find(key);
   if (it != pipelines_.end()) return it->second;
   auto p = std::make_shared<Pipeline>();
@@ -81,6 +93,12 @@ std::shared_ptr<const Pipeline> Context::pipeline(const std::string& name,
   ci.stage.stage = VK_SHADER_STAGE_COMPUTE_BIT;
   ci.stage.module = p->module;
   ci.stage.pName = "main";
+  std::vector<VkSpecializationMapEntry> entries(constants.size());
+  for (uint32_t k = 0; k < entries.size(); ++k)
+    entries[k] = {k, uint32_t(k * sizeof(uint32_t)), sizeof(uint32_t)};
+  VkSpecializationInfo spec{uint32_t(entries.size()), entries.data(),
+                            constants.size() * sizeof(uint32_t), constants.data()};
+  if (!constants.empty()) ci.stage.pSpecializationInfo = &spec;
   ci.layout = p->layout;
   check(vkCreateComputePipelines(device_, pipeline_cache_, 1, &ci, nullptr, &p->pipeline),
         "vkCreateComputePipelines");

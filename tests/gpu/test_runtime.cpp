@@ -9,7 +9,9 @@
 
 #include "effects/shadows/hard.h"
 #include "isg/shaders/shadows_hard.spv.h"
+#include "isg/shaders/shadows_isg_tiles.spv.h"
 #include "shadows_hard_io.h"
+#include "shadows_isg_io.h"
 #include "support/gpu_fixture.h"
 
 using isg::test::GpuTest;
@@ -156,6 +158,27 @@ TEST_F(GpuTest, HardShadowPassEqualsReferenceAndIsTimed) {
   if (ctx().timestamps()) {
     EXPECT_GT(t[0].ms, 0.0);
   }
+}
+
+// Specialization constants: one pipeline per set of values, made on first use and shared after
+// (a variant the validation layer rejects fails the fixture).
+TEST_F(GpuTest, KernelVariantsMakeOnePipelinePerConstantSet) {
+  gpu::KernelVariants v(ctx(), "shadows.isg.tiles", isg_spv_shadows_isg_tiles,
+                        {gpu::Slot::texels, gpu::Slot::texels, gpu::Slot::texels, gpu::Slot::texels,
+                         gpu::Slot::buffer, gpu::Slot::buffer},
+                        sizeof(isg::shaders::ShadowsIsgTilesPush), SHADOWS_ISG_TILE, SHADOWS_ISG_TILE);
+  const size_t before = ctx().built_pipelines();
+  const gpu::Kernel& a = v.at({0u});
+  const gpu::Kernel& b = v.at({SHADOWS_ISG_HAS_POSITION});
+  EXPECT_EQ(ctx().built_pipelines(), before + 2);
+  EXPECT_NE(a.pipeline(), b.pipeline());
+  EXPECT_EQ(&v.at({0u}), &a);
+  gpu::KernelVariants w(ctx(), "shadows.isg.tiles", isg_spv_shadows_isg_tiles,
+                        {gpu::Slot::texels, gpu::Slot::texels, gpu::Slot::texels, gpu::Slot::texels,
+                         gpu::Slot::buffer, gpu::Slot::buffer},
+                        sizeof(isg::shaders::ShadowsIsgTilesPush), SHADOWS_ISG_TILE, SHADOWS_ISG_TILE);
+  EXPECT_EQ(w.at({SHADOWS_ISG_HAS_POSITION}).pipeline(), b.pipeline());
+  EXPECT_EQ(ctx().built_pipelines(), before + 2);
 }
 
 // The persistent pipeline cache: written when a context ends, read by the next one; a damaged

@@ -363,8 +363,13 @@ ReflectionsPass::ReflectionsPass(gpu::Context& ctx, const ReflSettings& s)
 
 ReflectionsPass::~ReflectionsPass() = default;
 
-shaders::ReflIsgPush ReflectionsPass::push(uint32_t w, uint32_t h, bool has_position,
-                                           bool has_rough) const {
+uint32_t ReflectionsPass::flags(bool has_position, bool has_rough) const {
+  return (s_.search_reach ? REFL_SEARCH_REACH : 0u) | (s_.anisotropic ? REFL_ANISOTROPIC : 0u) |
+         (s_.search_misses ? REFL_SEARCH_MISSES : 0u) | (s_.masking ? REFL_MASKING : 0u) |
+         (has_position ? REFL_HAS_POSITION : 0u) | (has_rough ? REFL_HAS_ROUGHNESS : 0u);
+}
+
+shaders::ReflIsgPush ReflectionsPass::push(uint32_t w, uint32_t h) const {
   shaders::ReflIsgPush pc{};
   pc.width = w;
   pc.height = h;
@@ -372,10 +377,6 @@ shaders::ReflIsgPush ReflectionsPass::push(uint32_t w, uint32_t h, bool has_posi
   pc.origin = s_.window.packed_origin();
   pc.cx = float(s_.window.cx(int(w)));
   pc.cy = float(s_.window.cy(int(h)));
-  pc.mode = s_.method == "blur" ? REFL_MODE_BLUR : REFL_MODE_ISG;
-  pc.flags = (s_.search_reach ? 1u : 0u) | (s_.anisotropic ? 4u : 0u) |
-             (s_.search_misses ? 8u : 0u) | (s_.masking ? 16u : 0u) |
-             (has_position ? REFL_HAS_POSITION : 0u) | (has_rough ? REFL_HAS_ROUGHNESS : 0u);
   pc.roughness = float(s_.roughness);
   pc.tan_h_factor = float(ggx_cone_tan(1.0, s_.energy));
   pc.max_radius = float(s_.max_radius);
@@ -400,11 +401,11 @@ void ReflectionsPass::record(gpu::Sequence& seq, const ReflBuffers& b, uint32_t 
 void ReflectionsPass::record_pack(gpu::Sequence& seq, const ReflBuffers& b, uint32_t w,
                                   uint32_t h, const std::string& label) {
   const bool has_rough = b.rough && !s_.roughness_override;
-  const auto pc = push(w, h, b.has_position, has_rough);
+  const auto pc = push(w, h);
   // Two storage ranges of each buffer: the pixels' texels, and the coarse cells' from
   // REFL_COARSE_BASE (each within the device's storage-buffer range).
   const VkDeviceSize pixels = VkDeviceSize(w) * h * 16, cells = VkDeviceSize(REFL_COARSE_BASE(w, h)) * 16;
-  seq.dispatch(pack_,
+  seq.dispatch(pack_.at({flags(b.has_position, has_rough)}),
                {gpu::Binding::floats(b.refl), gpu::Binding::floats(b.dist),
                 gpu::Binding::floats(b.weight), gpu::Binding::floats(b.normal),
                 gpu::Binding::floats(b.geo), gpu::Binding::floats(b.fg),
@@ -416,7 +417,8 @@ void ReflectionsPass::record_pack(gpu::Sequence& seq, const ReflBuffers& b, uint
 void ReflectionsPass::record_gather(gpu::Sequence& seq, const ReflBuffers& b, uint32_t w,
                                     uint32_t h, const std::string& label) {
   const bool has_rough = b.rough && !s_.roughness_override;
-  const auto pc = push(w, h, b.has_position, has_rough);
+  const auto pc = push(w, h);
+  const uint32_t f = flags(b.has_position, has_rough);
   // Without a roughness channel the slot is bound to refl.dist and never read.
   const gpu::Buffer& rb = has_rough ? *b.rough : b.dist;
   // reflections.list: the tiles with a glossy pixel, dispatched tiles_x wide by the rows the
@@ -426,11 +428,11 @@ void ReflectionsPass::record_gather(gpu::Sequence& seq, const ReflBuffers& b, ui
   init[REFL_AT_ARGS(nt)] = tx;
   init[REFL_AT_ARGS(nt) + 2] = 1u;
   b.tiles.upload(std::span<const uint32_t>(init));
-  seq.dispatch(list_, {gpu::Binding::float4s(b.pack_color), gpu::Binding::floats(rb),
-                       gpu::Binding::of(b.tiles)},
+  seq.dispatch(list_.at({f}), {gpu::Binding::float4s(b.pack_color), gpu::Binding::floats(rb),
+                              gpu::Binding::of(b.tiles)},
                pc, nt, 1, label + ".list");
   seq.copy(b.refl, b.glossy, 3 * uint64_t(w) * h * sizeof(float), label + ".copy");
-  seq.dispatch_indirect(kernel_,
+  seq.dispatch_indirect(kernel_.at({f, s_.method == "blur" ? REFL_MODE_BLUR : REFL_MODE_ISG}),
                         {gpu::Binding::texels(b.pack_geo, VK_FORMAT_R32G32B32A32_UINT),
                          gpu::Binding::float4s(b.pack_color), gpu::Binding::floats(rb),
                          gpu::Binding::float4s(*samples_), gpu::Binding::of(b.glossy),

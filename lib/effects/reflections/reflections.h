@@ -64,9 +64,10 @@ class ReflectionsPass {
   static ReflTileStats stats(const gpu::Buffer& tiles, uint32_t w, uint32_t h);
 
  private:
-  shaders::ReflIsgPush push(uint32_t w, uint32_t h, bool has_position, bool has_rough) const;
+  shaders::ReflIsgPush push(uint32_t w, uint32_t h) const;
+  uint32_t flags(bool has_position, bool has_rough) const;  // specialization constant 0
   ReflSettings s_;
-  gpu::Kernel pack_, list_, kernel_;
+  gpu::KernelVariants pack_, list_, kernel_;
   std::unique_ptr<gpu::Buffer> samples_;  // the lattice table (sample_table)
 };
 

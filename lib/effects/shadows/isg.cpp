@@ -401,9 +401,6 @@ void ShadowsIsgPass::record(gpu::Sequence& seq, const ShadowSettings& s, const g
   pc.origin = s.window.packed_origin();
   pc.cx = float(s.window.cx(int(w)));
   pc.cy = float(s.window.cy(int(h)));
-  pc.flags = (s.rotate ? SHADOWS_ISG_ROTATE : 0u) | (s.search_reach ? SHADOWS_ISG_SEARCH_REACH : 0u) |
-             (s.tile_skip ? SHADOWS_ISG_TILE_SKIP : 0u) | (s.oriented ? SHADOWS_ISG_ORIENTED : 0u) |
-             (has_position ? SHADOWS_ISG_HAS_POSITION : 0u);
   pc.light_size = float(s.light_size);
   pc.inv_sigma = float(1.0 / s.sigma);
   pc.inv_scene_radius = float(1.0 / s.scene_radius);
@@ -423,7 +420,6 @@ void ShadowsIsgPass::record(gpu::Sequence& seq, const ShadowSettings& s, const g
   tp.width = w;
   tp.height = h;
   tp.origin = pc.origin;
-  tp.flags = has_position ? SHADOWS_ISG_HAS_POSITION : 0u;
   tp.cx = pc.cx;
   tp.cy = pc.cy;
   tp.f_px = pc.f_px;
@@ -434,7 +430,7 @@ void ShadowsIsgPass::record(gpu::Sequence& seq, const ShadowSettings& s, const g
   shaders::ShadowsIsgListPush lp{};
   lp.width = w;
   lp.height = h;
-  lp.flags = pc.flags & SHADOWS_ISG_TILE_SKIP;
+  lp.flags = s.tile_skip ? SHADOWS_ISG_TILE_SKIP : 0u;
   lp.light_size = pc.light_size;
   lp.max_radius = pc.max_radius;
   lp.f_px = pc.f_px;
@@ -454,7 +450,7 @@ void ShadowsIsgPass::record(gpu::Sequence& seq, const ShadowSettings& s, const g
   init[SHADOWS_ISG_AT_ARGS(nt)] = tx;
   init[SHADOWS_ISG_AT_ARGS(nt) + 2] = 1u;
   tiles.upload(std::span<const uint32_t>(init));
-  seq.dispatch(tiles_kernel_,
+  seq.dispatch(tiles_kernel_.at({has_position ? SHADOWS_ISG_HAS_POSITION : 0u}),
                {gpu::Binding::floats(shadow), gpu::Binding::floats(occluder),
                 gpu::Binding::floats(geo), gpu::Binding::floats(fg), gpu::Binding::of(tiles),
                 gpu::Binding::of(pack)},
@@ -463,7 +459,12 @@ void ShadowsIsgPass::record(gpu::Sequence& seq, const ShadowSettings& s, const g
                label + ".list");
   // Tiles left out of the list keep the hard shadow (the cheap path's result).
   seq.copy(shadow, soft, uint64_t(w) * h * sizeof(float), label + ".copy");
-  seq.dispatch_indirect(kernel_,
+  // The settings that choose code paths, as specialization constant 0.
+  const uint32_t flags = (s.rotate ? SHADOWS_ISG_ROTATE : 0u) |
+                         (s.search_reach ? SHADOWS_ISG_SEARCH_REACH : 0u) |
+                         (s.tile_skip ? SHADOWS_ISG_TILE_SKIP : 0u) |
+                         (s.oriented ? SHADOWS_ISG_ORIENTED : 0u);
+  seq.dispatch_indirect(kernel_.at({flags}),
                         {gpu::Binding::float4s(pack), gpu::Binding::floats(occluder),
                          gpu::Binding::of(tiles), gpu::Binding::of(soft),
                          gpu::Binding::texels(samples(s.grid_search, s.grid_gather),

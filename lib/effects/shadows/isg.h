@@ -69,7 +69,9 @@ class ShadowsIsgPass {
  private:
   const gpu::Buffer& samples(int grid_search, int grid_gather);
   gpu::Context& ctx_;
-  gpu::Kernel tiles_kernel_, list_kernel_, kernel_;
+  gpu::KernelVariants tiles_kernel_;  // specialised on SHADOWS_ISG_HAS_POSITION
+  gpu::Kernel list_kernel_;
+  gpu::KernelVariants kernel_;  // specialised on the SHADOWS_ISG_* settings
   std::map<std::pair<int, int>, std::unique_ptr<gpu::Buffer>> samples_;
 };
 
