@@ -7,6 +7,9 @@
 #include "isg_sampling.h"
 #include "isg_texels.h"
 const float DOF_PI = 3.14159265358979;
+// The aperture's blades (0: a disk, else an n-blade polygon): a specialization constant
+// (gpu::Kernel), so a disk's taps do not pay for the polygon's atan and cos.
+layout(constant_id = 0) const uint DOF_BLADES = 0u;
 
 // The sample lattice through the concentric map, evaluated once per workgroup rather than once
 // per tap (issue 18). Call at the top of main, before any invocation returns.
@@ -83,7 +86,7 @@ vec4 dof_cheap(uvec2 p, float c0, float rot_angle, uint grid) {
   float ws = 1.0;
   for (uint k = 0u; k < grid * grid; ++k) {
     vec2 d = r * (rot * dof_lattice[k]);
-    float w = dof_cover(d, r, pc.blades, pc.rotation);
+    float w = dof_cover(d, r, DOF_BLADES, pc.rotation);
     s += w * dof_fetch_src(p0 + d);
     ws += w;
   }

@@ -37,9 +37,9 @@ void main() {
     for (uint k = 0u; k < pc.grid * pc.grid; ++k) {
       vec2 d = R_g * (rot * dof_lattice[k]);
       float ci = dof_fetch_coc(p0 + d);
-      float own = dof_cover(ci >= 0.0 ? -d : d, abs(ci), pc.blades, pc.rotation);
+      float own = dof_cover(ci >= 0.0 ? -d : d, abs(ci), DOF_BLADES, pc.rotation);
       float front_sharper = smoothstep(0.0, 1.0, c0 - ci) * smoothstep(0.0, 1.0, abs(c0) - abs(ci));
-      float w = dof_cover(d, R_g, pc.blades, pc.rotation) * mix(1.0, own, front_sharper);
+      float w = dof_cover(d, R_g, DOF_BLADES, pc.rotation) * mix(1.0, own, front_sharper);
       s += w * dof_fetch_src(p0 + d);
       ws += w;
     }

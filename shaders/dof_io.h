@@ -27,7 +27,6 @@ struct DofPush {
   uint tiles_x;
   uint tiles_y;
   uint grid;       // samples = grid * grid, a regular grid through the concentric disk map
-  uint blades;     // 0: disk aperture, else an n-blade polygon
   uint has_alpha;  // composite plane 3 is alpha (background where it is 0)
   uint margin;     // tiles look this far (pixels) for CoCs that reach into them
   float z_f;       // eq. 15: focus distance (planar depth, scene units)

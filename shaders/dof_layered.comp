@@ -26,7 +26,7 @@ uint dof_layered_grid(float R, uint grid) {
 // over the workgroup's lattice of grid² samples.
 vec4 layered(uvec2 p, float c0, float a, float R, uint grid) {
   uint i = p.y * pc.width + p.x;
-  float K = dof_area_factor(pc.blades);
+  float K = dof_area_factor(DOF_BLADES);
   float a_s = DOF_PI * R * R / float(grid * grid);  // image area one sample stands for
   mat2 rot = mat2(cos(a), sin(a), -sin(a), cos(a));
   vec2 p0 = vec2(p) + 0.5;
@@ -47,9 +47,9 @@ vec4 layered(uvec2 p, float c0, float a, float R, uint grid) {
     // within p0's own CoC (partial occlusion): far samples that near reach p0.
     r_far = max(r_far, m0 * max(-c0, 0.0));
     // In-focus samples (CoC under half a pixel) are the centre pixel's business, not the ring's.
-    float wf = (1.0 - mi) * dof_cover(v, r_far, pc.blades, pc.rotation) * dens *
+    float wf = (1.0 - mi) * dof_cover(v, r_far, DOF_BLADES, pc.rotation) * dens *
                smoothstep(0.25, 0.75, r_far);
-    float wn = mi * dof_cover(v, abs(ci), pc.blades, pc.rotation) * dens;
+    float wn = mi * dof_cover(v, abs(ci), DOF_BLADES, pc.rotation) * dens;
     if (wf + wn > 0.0) {
       vec4 ci4 = dof_fetch_src(p0 + d);
       Sf += wf * ci4; Wf += wf;

@@ -30,8 +30,8 @@ void main() {
     vec2 d = R_s * (rot * dof_lattice[k]);
     float ci = dof_fetch_coc(p0 + d);
     // The aperture image is upright behind the focal plane and inverted in front of it.
-    float reach = dof_cover(ci >= 0.0 ? -d : d, abs(ci), pc.blades, pc.rotation);
-    float w = dof_cover(d, R_s, pc.blades, pc.rotation) * reach;
+    float reach = dof_cover(ci >= 0.0 ? -d : d, abs(ci), DOF_BLADES, pc.rotation);
+    float w = dof_cover(d, R_s, DOF_BLADES, pc.rotation) * reach;
     float hidden = smoothstep(0.0, 1.0, ci - c0) * smoothstep(0.0, 1.0, abs(ci) - abs(c0));
     sv += w * mix(abs(ci), abs(c0), hidden);
     sw += w;

@@ -362,7 +362,6 @@ shaders::DofPush push_of(const DofSettings& s, uint32_t w, uint32_t h, bool has_
   pc.tiles_x = dof_tiles_x(w);
   pc.tiles_y = dof_tiles_y(h);
   pc.grid = uint32_t(s.grid);
-  pc.blades = uint32_t(s.blades);
   pc.has_alpha = has_alpha ? 1u : 0u;
   pc.margin = margin_of(s);
   pc.z_f = float(s.lens.z_f);
@@ -373,11 +372,14 @@ shaders::DofPush push_of(const DofSettings& s, uint32_t w, uint32_t h, bool has_
   pc.origin = s.window.packed_origin();
   return pc;
 }
+// `constants`: the passes that include dof_common.h take the blades (DOF_BLADES) as constant 0.
 std::unique_ptr<gpu::Kernel> make_kernel(gpu::Context& ctx, const char* name,
                                          std::span<const uint32_t> spv,
-                                         std::vector<gpu::Slot> slots) {
+                                         std::vector<gpu::Slot> slots,
+                                         std::vector<uint32_t> constants = {}) {
   return std::make_unique<gpu::Kernel>(ctx, name, spv, std::move(slots),
-                                       uint32_t(sizeof(shaders::DofPush)), DOF_LOCAL, DOF_LOCAL);
+                                       uint32_t(sizeof(shaders::DofPush)), DOF_LOCAL, DOF_LOCAL,
+                                       std::move(constants));
 }
 constexpr gpu::Slot B = gpu::Slot::buffer, T = gpu::Slot::texels;
 using Bind = gpu::Binding;
@@ -402,7 +404,7 @@ void DofPass::record_tiles(gpu::Sequence& seq, const gpu::Buffer& coc, const gpu
 
 void DofPass::record_search(gpu::Sequence& seq, const gpu::Buffer& coc, const gpu::Buffer& tiles,
                             const gpu::Buffer& radius, uint32_t w, uint32_t h) {
-  if (!k_->search) k_->search = make_kernel(ctx_, "dof.search", isg_spv_dof_search, {T, T, B});
+  if (!k_->search) k_->search = make_kernel(ctx_, "dof.search", isg_spv_dof_search, {T, T, B}, blades());
   seq.dispatch(*k_->search,
                {Bind::floats(coc), Bind::floats(tiles), Bind::of(radius)},
                push_of(s_, w, h, false), w, h, "dof.search");
@@ -412,7 +414,7 @@ void DofPass::record_gather(gpu::Sequence& seq, const gpu::Buffer& input, const 
                             const gpu::Buffer& tiles, const gpu::Buffer& radius,
                             const gpu::Buffer& composite, uint32_t w, uint32_t h) {
   if (!k_->gather)
-    k_->gather = make_kernel(ctx_, "dof.gather", isg_spv_dof_gather, {T, T, T, T, B});
+    k_->gather = make_kernel(ctx_, "dof.gather", isg_spv_dof_gather, {T, T, T, T, B}, blades());
   seq.dispatch(*k_->gather,
                {Bind::float4s(input), Bind::floats(coc), Bind::floats(tiles), Bind::floats(radius),
                 Bind::of(composite)},
@@ -423,7 +425,7 @@ void DofPass::record_layered(gpu::Sequence& seq, const gpu::Buffer& input, const
                              const gpu::Buffer& tiles, const gpu::Buffer& composite, uint32_t w,
                              uint32_t h) {
   if (!k_->layered)
-    k_->layered = make_kernel(ctx_, "dof.layered", isg_spv_dof_layered, {T, T, T, B});
+    k_->layered = make_kernel(ctx_, "dof.layered", isg_spv_dof_layered, {T, T, T, B}, blades());
   seq.dispatch(*k_->layered,
                {Bind::float4s(input), Bind::floats(coc), Bind::floats(tiles), Bind::of(composite)},
                push_of(s_, w, h, false), w, h, "dof.layered");

@@ -59,6 +59,8 @@ class DofPass {
 
  private:
   struct Kernels;
+  // Specialization constant 0 of the passes that draw the aperture (shaders/dof_common.h).
+  std::vector<uint32_t> blades() const { return {uint32_t(s_.blades)}; }
   gpu::Context& ctx_;
   DofSettings s_;
   std::unique_ptr<Kernels> k_;
