@@ -45,10 +45,13 @@ TEST_F(GpuTest, ForegroundMatchesReference) {
   }
 }
 
+// 45x23: a pixel a lane; 44x23 (a multiple of 4 pixels): four pixels a lane, through texel views
+// of four pixels a texel.
 TEST_F(GpuTest, CompositeTermMatchesDoubleReference) {
-  const uint32_t w = 45, h = 23;
-  const size_t n = w * h;
+  for (const uint32_t w : {45u, 44u})
   for (int x_planes : {1, 3}) {
+    const uint32_t h = 23;
+    const size_t n = w * h;
     auto C = random_planes(n, 4, 2, 0.f, 2.f);
     auto W = random_planes(n, 3, 3, 0.f, 5.f);
     auto X = random_planes(n, x_planes, 4, 0.f, 1.f);
@@ -66,7 +69,7 @@ TEST_F(GpuTest, CompositeTermMatchesDoubleReference) {
     isg::effects::composite_term_reference(want, W, X, Y, x_planes, fg, n);
     double worst = 0;
     for (size_t i = 0; i < 4 * n; ++i) worst = std::max(worst, double(std::abs(got[i] - want[i])));
-    EXPECT_LT(worst, 1e-5) << "x_planes " << x_planes;
+    EXPECT_LT(worst, 1e-5) << w << "x" << h << ", x_planes " << x_planes;
     for (size_t i = 0; i < n; i += 9)  // background untouched, bit for bit
       for (int c = 0; c < 4; ++c) EXPECT_EQ(got[c * n + i], C[c * n + i]);
     for (size_t i = 0; i < n; ++i) EXPECT_EQ(got[3 * n + i], C[3 * n + i]);  // alpha kept

@@ -37,7 +37,7 @@ void ForegroundPass::record(gpu::Sequence& seq, const gpu::Buffer& composite, bo
 }
 
 CompositeTermPass::CompositeTermPass(gpu::Context& ctx)
-    : kernel_(ctx, "composite_term", isg_spv_composite_term,
+    : kernels_(ctx, "composite_term", isg_spv_composite_term,
               {gpu::Slot::buffer, gpu::Slot::texels, gpu::Slot::texels, gpu::Slot::texels,
                gpu::Slot::texels},
               sizeof(shaders::CompositeTermPush),
@@ -47,11 +47,17 @@ void CompositeTermPass::record(gpu::Sequence& seq, const gpu::Buffer& C, const g
                                const gpu::Buffer& X, const gpu::Buffer& Y, uint32_t x_planes,
                                const gpu::Buffer& fg, uint32_t w, uint32_t h,
                                const std::string& label) {
-  shaders::CompositeTermPush pc{w, h, x_planes, 0u};
-  seq.dispatch(kernel_,
-               {gpu::Binding::of(C), gpu::Binding::floats(W), gpu::Binding::floats(X),
-                gpu::Binding::floats(Y), gpu::Binding::floats(fg)},
-               pc, w, h, label);
+  shaders::CompositeTermPush pc{w, h};
+  // Four pixels a lane where the planes split into whole 16-byte texels (shaders/composite_term).
+  const uint64_t n = uint64_t(w) * h;
+  const uint32_t lane_pixels = n % 4 == 0 ? 4u : 1u;
+  const uint64_t lanes = n / lane_pixels;
+  auto view = [&](const gpu::Buffer& b) {
+    return lane_pixels == 4 ? gpu::Binding::float4s(b) : gpu::Binding::floats(b);
+  };
+  seq.dispatch(kernels_.at({x_planes, lane_pixels}),
+               {gpu::Binding::of(C), view(W), view(X), view(Y), view(fg)}, pc, COMPOSITE_TERM_ROW,
+               uint32_t((lanes + COMPOSITE_TERM_ROW - 1) / COMPOSITE_TERM_ROW), label);
 }
 
 }  // namespace isg::effects

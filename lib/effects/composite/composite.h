@@ -41,7 +41,7 @@ class CompositeTermPass {
               uint32_t h, const std::string& label);
 
  private:
-  gpu::Kernel kernel_;
+  gpu::KernelVariants kernels_;  // specialised on x_planes and the pixels a lane
 };
 
 }  // namespace isg::effects
