@@ -6,6 +6,8 @@
 // so a tap of shadows.isg is one 16-byte load (issue 18); positions are relative to the camera
 // (shaders/isg_view.h). lib/effects/shadows/isg.cpp mirrors it in double.
 #extension GL_GOOGLE_include_directive : require
+#extension GL_KHR_shader_subgroup_arithmetic : require
+#extension GL_KHR_shader_subgroup_basic : require
 #include "shadows_isg_io.h"
 #include "isg_view.h"
 #include "isg_texels.h"
@@ -20,26 +22,18 @@ layout(push_constant) uniform Push { ShadowsIsgTilesPush pc; };
 // SHADOWS_ISG_HAS_POSITION or 0: compiled in, not branched on (gpu::Kernel).
 layout(constant_id = 0) const uint FLAGS = 0u;
 
-shared uint s_flags;
-shared uint s_dmax;
-
 void main() {
-  if (gl_LocalInvocationIndex == 0u) {
-    s_flags = 0u;
-    s_dmax = 0u;
-  }
-  barrier();
   uvec2 p = gl_GlobalInvocationID.xy;
+  uint flags = 0u, dmax = 0u;  // this lane's: SHADOWS_ISG_FLAG_*, its occluder distance's bits
   if (p.x < pc.width && p.y < pc.height) {
     uint n = pc.width * pc.height, i = p.y * pc.width + p.x;
     float s = texelFetch(shadow_in, int(i)).r;
     vec3 rel = vec3(0.0);
     if (texelFetch(fg, int(i)).r != 0.0) {
-      uint f = (s > 0.0 ? SHADOWS_ISG_FLAG_LIT : 0u) | (s < 1.0 ? SHADOWS_ISG_FLAG_SHADOW : 0u);
-      atomicOr(s_flags, f);
+      flags = (s > 0.0 ? SHADOWS_ISG_FLAG_LIT : 0u) | (s < 1.0 ? SHADOWS_ISG_FLAG_SHADOW : 0u);
       // Positive floats order as their bits.
       float o = isg_at(occluder, i);
-      if (s < 1.0 && o > 0.0) atomicMax(s_dmax, floatBitsToUint(o));
+      if (s < 1.0 && o > 0.0) dmax = floatBitsToUint(o);
       if ((FLAGS & SHADOWS_ISG_HAS_POSITION) != 0u) {
         rel = isg_rel_from_world(isg_at3(geo, i, n), vec3(pc.eye_x, pc.eye_y, pc.eye_z),
                                  vec3(pc.eye_lo_x, pc.eye_lo_y, pc.eye_lo_z));
@@ -53,13 +47,19 @@ void main() {
     // Background pixels carry SHADOWS_ISG_BACKGROUND instead of L.shadow.
     pack[i] = vec4(rel, texelFetch(fg, int(i)).r != 0.0 ? s : SHADOWS_ISG_BACKGROUND);
   }
-  barrier();
-  if (gl_LocalInvocationIndex == 0u) {
+  // The tile's flags and largest occluder distance, and the image's: reduced over the subgroup,
+  // then one atomic a subgroup into tiles (zero before the pass). No barrier: on lavapipe a
+  // shader with one runs its lanes as coroutines, about 60 ns a lane (issue 18, docs/design.md).
+  flags = subgroupOr(flags);
+  dmax = subgroupMax(dmax);
+  if (subgroupElect()) {
     uint tiles_x = (pc.width + SHADOWS_ISG_TILE - 1u) / SHADOWS_ISG_TILE;
     uint tiles_y = (pc.height + SHADOWS_ISG_TILE - 1u) / SHADOWS_ISG_TILE;
     uint nt = tiles_x * tiles_y, t = gl_WorkGroupID.y * tiles_x + gl_WorkGroupID.x;
-    tiles[t] = s_flags;
-    tiles[nt + t] = s_dmax;
-    if (s_dmax != 0u) atomicMax(tiles[3u * nt + SHADOWS_ISG_STAT_DMAX], s_dmax);
+    if (flags != 0u) atomicOr(tiles[t], flags);
+    if (dmax != 0u) {
+      atomicMax(tiles[nt + t], dmax);
+      atomicMax(tiles[3u * nt + SHADOWS_ISG_STAT_DMAX], dmax);
+    }
   }
 }

@@ -221,6 +221,19 @@ Context::Context(const ContextOptions& opt) : user_callback_(opt.on_message) {
       throw GpuError("--require-gpu: the only usable device is a CPU implementation (" +
                      info_.name + ")");
     }
+    // Subgroup reductions (subgroupOr, subgroupMax) stand in for shared-memory barriers where a
+    // pass only reduces (shadows.isg.tiles): Vulkan 1.1 devices, lavapipe included, have them.
+    VkPhysicalDeviceSubgroupProperties sg{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_SUBGROUP_PROPERTIES};
+    VkPhysicalDeviceProperties2 p2{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_PROPERTIES_2};
+    p2.pNext = &sg;
+    vkGetPhysicalDeviceProperties2(physical_, &p2);
+    constexpr VkSubgroupFeatureFlags kNeeded =
+        VK_SUBGROUP_FEATURE_BASIC_BIT | VK_SUBGROUP_FEATURE_ARITHMETIC_BIT;
+    if (!(sg.supportedStages & VK_SHADER_STAGE_COMPUTE_BIT) ||
+        (sg.supportedOperations & kNeeded) != kNeeded) {
+      throw GpuError("device " + info_.name +
+                     " has no subgroup arithmetic in compute shaders (Vulkan 1.1), which isg needs");
+    }
     bool ts = false;
     int fam = compute_family(physical_, &ts);
     if (fam < 0) throw GpuError("device " + info_.name + " has no compute queue");
