@@ -35,8 +35,6 @@ struct DofPush {
   float rotation;  // aperture rotation, radians
   uint tile_skip;  // 1: cheap tiles take the cheap path
   uint origin;     // the image's origin in the frame, x | y << 16 (the pixel hash's)
-  uint pad1;
-  uint pad2;
 };
 ISG_IO_END
 #endif

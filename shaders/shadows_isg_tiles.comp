@@ -48,8 +48,9 @@ void main() {
     pack[i] = vec4(rel, texelFetch(fg, int(i)).r != 0.0 ? s : SHADOWS_ISG_BACKGROUND);
   }
   // The tile's flags and largest occluder distance, and the image's: reduced over the subgroup,
-  // then one atomic a subgroup into tiles (zero before the pass). No barrier: on lavapipe a
-  // shader with one runs its lanes as coroutines, about 60 ns a lane (issue 18, docs/design.md).
+  // then at most three atomics a subgroup into tiles (zero before the pass). No barrier: on
+  // lavapipe a shader with one runs its lanes as coroutines, about 60 ns a lane (issue 18,
+  // docs/design.md).
   flags = subgroupOr(flags);
   dmax = subgroupMax(dmax);
   if (subgroupElect()) {

@@ -226,10 +226,11 @@ Context::Context(const ContextOptions& opt) : user_callback_(opt.on_message) {
     VkPhysicalDeviceSubgroupProperties sg{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_SUBGROUP_PROPERTIES};
     VkPhysicalDeviceProperties2 p2{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_PROPERTIES_2};
     p2.pNext = &sg;
-    vkGetPhysicalDeviceProperties2(physical_, &p2);
     constexpr VkSubgroupFeatureFlags kNeeded =
         VK_SUBGROUP_FEATURE_BASIC_BIT | VK_SUBGROUP_FEATURE_ARITHMETIC_BIT;
-    if (!(sg.supportedStages & VK_SHADER_STAGE_COMPUTE_BIT) ||
+    if (info_.api_version >= VK_API_VERSION_1_1) vkGetPhysicalDeviceProperties2(physical_, &p2);
+    if (info_.api_version < VK_API_VERSION_1_1 ||
+        !(sg.supportedStages & VK_SHADER_STAGE_COMPUTE_BIT) ||
         (sg.supportedOperations & kNeeded) != kNeeded) {
       throw GpuError("device " + info_.name +
                      " has no subgroup arithmetic in compute shaders (Vulkan 1.1), which isg needs");

@@ -138,24 +138,43 @@ double max_abs_diff(const std::vector<float>& a, const std::vector<float>& b) {
 
 }  // namespace
 
+// Each setting that shadows.isg compiles in (a specialization constant) is a pipeline of its own:
+// every one runs here, on 97x83 (partial tiles) as well as 96x80.
 TEST_F(ShadowsIsg, GpuMatchesReference) {
-  Planes pl;
-  pl.w = 96;
-  pl.h = 80;
-  for (bool with_p : {true, false}) {
+  struct Case {
+    int w, h;
+    bool with_p, sphere, rotate, search_reach, tile_skip;
+  };
+  std::vector<Case> cases;
+  for (bool with_p : {true, false})
+    for (bool sphere : {false, true}) cases.push_back({96, 80, with_p, sphere, true, true, true});
+  for (int off = 0; off < 4; ++off)
+    cases.push_back({97, 83, true, false, off != 1, off != 2, off != 3});
+  for (const Case& c : cases) {
+    Planes pl;
+    pl.w = c.w;
+    pl.h = c.h;
+    const bool with_p = c.with_p, sphere = c.sphere;
     auto in = pl.inputs(with_p);
     // A background patch and a sphere-like light to exercise both cross-sections.
     for (int y = 10; y < 20; ++y)
       for (int x = 40; x < 56; ++x) in.fg[size_t(y) * in.w + x] = 0.0f;
-    for (bool sphere : {false, true}) {
+    {
       auto s = pl.settings(25, 49);
       s.oriented = !sphere;
+      s.rotate = c.rotate;
+      s.search_reach = c.search_reach;
+      s.tile_skip = c.tile_skip;
       fx::ShadowIsgStats st_ref, st_gpu;
       auto ref = fx::shadows_isg_reference(in, s, &st_ref);
       auto got = run_gpu(in, s, &st_gpu);
       const double diff = max_abs_diff(ref, got);
-      std::printf("GPU vs reference (P %d, sphere %d): max abs diff %.2e\n", int(with_p), int(sphere), diff);
-      EXPECT_LT(diff, 1e-3) << "position " << with_p << " sphere " << sphere;
+      std::printf("GPU vs reference (%dx%d, P %d, sphere %d, rotate %d, reach %d, tile skip %d): max abs "
+                  "diff %.2e\n", c.w, c.h, int(with_p), int(sphere), int(c.rotate), int(c.search_reach),
+                  int(c.tile_skip), diff);
+      EXPECT_LT(diff, 1e-3) << c.w << "x" << c.h << " position " << with_p << " sphere " << sphere
+                            << " rotate " << c.rotate << " reach " << c.search_reach << " tile skip "
+                            << c.tile_skip;
       EXPECT_EQ(st_ref.full_pixels, st_gpu.full_pixels);
       EXPECT_EQ(st_ref.clamped_pixels, st_gpu.clamped_pixels);
       EXPECT_NEAR(double(st_ref.searches), double(st_gpu.searches), 0.01 * double(st_ref.searches));

@@ -405,7 +405,8 @@ void ReflectionsPass::record_pack(gpu::Sequence& seq, const ReflBuffers& b, uint
   // Two storage ranges of each buffer: the pixels' texels, and the coarse cells' from
   // REFL_COARSE_BASE (each within the device's storage-buffer range).
   const VkDeviceSize pixels = VkDeviceSize(w) * h * 16, cells = VkDeviceSize(REFL_COARSE_BASE(w, h)) * 16;
-  seq.dispatch(pack_.at({flags(b.has_position, has_rough)}),
+  // Each pass is specialised on the flags it reads.
+  seq.dispatch(pack_.at({flags(b.has_position, has_rough) & REFL_HAS_POSITION}),
                {gpu::Binding::floats(b.refl), gpu::Binding::floats(b.dist),
                 gpu::Binding::floats(b.weight), gpu::Binding::floats(b.normal),
                 gpu::Binding::floats(b.geo), gpu::Binding::floats(b.fg),
@@ -428,7 +429,7 @@ void ReflectionsPass::record_gather(gpu::Sequence& seq, const ReflBuffers& b, ui
   init[REFL_AT_ARGS(nt)] = tx;
   init[REFL_AT_ARGS(nt) + 2] = 1u;
   b.tiles.upload(std::span<const uint32_t>(init));
-  seq.dispatch(list_.at({f}), {gpu::Binding::float4s(b.pack_color), gpu::Binding::floats(rb),
+  seq.dispatch(list_.at({f & REFL_HAS_ROUGHNESS}), {gpu::Binding::float4s(b.pack_color), gpu::Binding::floats(rb),
                               gpu::Binding::of(b.tiles)},
                pc, nt, 1, label + ".list");
   seq.copy(b.refl, b.glossy, 3 * uint64_t(w) * h * sizeof(float), label + ".copy");
