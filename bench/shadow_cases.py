@@ -16,6 +16,13 @@ Cycles cases, rendered by tools/cases/make_cases.sh); a folder that is absent is
 
 --keep DIR keeps every output EXR (DIR/CASE/METHOD-INPUT.exr) and writes an error heat-map
 next to it (full scale 3x doing nothing's RMSE), for looking at what breaks.
+The own cases contact-far1e5 and contact-far1e6 are the shared contact scene rendered again 1e5 and
+1e6 m from the origin. Cycles works in float32 there, so their references are not the origin's
+scene (the sphere self-shadows in bumps, edges step by P's float32 step). Per far case the page also
+gives each method's error from P over the pixels where Cycles agrees with itself (the masks of both
+references, and |far reference - origin reference| < AGREE_TOL), next to the same method's error at
+the origin over the same pixels: there the method's own dependence on where the scene stands shows.
+
 Writes bench/out/shadow_cases.json and docs/benchmark/shadow_cases.md."""
 import argparse, os, platform, re, subprocess, sys
 
@@ -35,6 +42,12 @@ ap.add_argument("--from-json", action="store_true", help="rewrite the page from 
 a = ap.parse_args()
 
 INPUTS = ("P", "Z")
+ORIGIN = "shared contact"  # the scene the own contact-far* cases move away from the origin
+AGREE_TOL = 0.01           # |far reference - origin reference| under this: Cycles agrees with itself
+
+
+def is_far(label):
+    return label.startswith("own contact-far")
 
 
 def find_cases():
@@ -66,7 +79,8 @@ def z_only(t, case):
     return dst
 
 
-def measure(t, label, case, methods):
+def measure(t, label, case, methods, outs):
+    """Every method from P and from Z; the P outputs of ORIGIN and the far cases stay in `outs`."""
     ref = f"{case}/ref/softshadow_key.exr"
     keep = os.path.join(a.keep, os.path.basename(case)) if a.keep else None
     if keep:
@@ -77,6 +91,8 @@ def measure(t, label, case, methods):
         for m in ["hard"] + methods:
             key = f"{m}-{inp}"
             out = os.path.join(keep, f"{key}.exr") if keep else None
+            if out is None and inp == "P" and (label == ORIGIN or is_far(label)):
+                out = os.path.join(t.tmp, f"{os.path.basename(case)}-{key}.exr")
             try:
                 # From P: P's positions as they are (input.positions=P), but for auto, which keeps
                 # every default (input.positions=auto too: Z where P's float32 step is coarse).
@@ -96,8 +112,41 @@ def measure(t, label, case, methods):
             e = compare(t, r["out"], ref, ["key.softshadow"], "mask", heatmap=heat,
                         heatmap_max=3 * hard if heat and hard else None)
             res["rmse"][key] = e["rmse"]
+            if out:
+                outs[(label, key)] = out
             print(label, key, f"rmse {e['rmse']:.5f}" + (f" ratio {e['rmse'] / hard:.2f}" if hard else ""), flush=True)
     return res
+
+
+def far_agreement(t, res, outs, methods):
+    """Per far case: the references' RMSE to each other, and every method's RMSE from P over the
+    pixels where they agree, at the far case and at the origin."""
+    cases = res["cases"]
+    if ORIGIN not in cases:
+        return {}
+    o_ref = f"{cases[ORIGIN]['dir']}/ref/softshadow_key.exr"
+    out = {}
+    for label, r in cases.items():
+        if not is_far(label):
+            continue
+        f_ref = f"{r['dir']}/ref/softshadow_key.exr"
+        agree = os.path.join(t.tmp, f"agree-{os.path.basename(r['dir'])}.exr")
+        sh(["oiiotool", f_ref, "--ch", "key.softshadow", o_ref, "--ch", "key.softshadow", "--absdiff",
+            "--subc", f"{AGREE_TOL}", "--mulc", "-1e9", "--clamp:min=0:max=1", f_ref, "--ch", "mask", "--mul",
+            o_ref, "--ch", "mask", "--mul", "--chnames", "A", "-d", "float", "-o", agree])
+        cover = float(re.search(r"Stats Avg: ([0-9.eE+-]+)", sh(["oiiotool", agree, "--printstats"])).group(1))
+        mask = float(re.search(r"Stats Avg: ([0-9.eE+-]+)",
+                               sh(["oiiotool", f_ref, "--ch", "mask", "--printstats"])).group(1))
+        a = {"refs_rmse": compare(t, f_ref, o_ref, ["key.softshadow"], "mask")["rmse"],
+             "agree_share": cover / mask if mask > 0 else 0.0, "rmse": {}}
+        for m in ["hard"] + methods:
+            k = f"{m}-P"
+            if (label, k) in outs and (ORIGIN, k) in outs:
+                a["rmse"][m] = [compare(t, outs[(label, k)], f_ref, ["key.softshadow"], f"{agree}:A")["rmse"],
+                                compare(t, outs[(ORIGIN, k)], o_ref, ["key.softshadow"], f"{agree}:A")["rmse"]]
+        out[label] = a
+        print(label, "agreement", a, flush=True)
+    return out
 
 
 def ratio(r, m, inp):
@@ -148,6 +197,21 @@ def report(res):
         for n in names:
             ch = cases[n].get("auto", {})
             L.append(f"- {n}: " + " / ".join(f"**{ch[i][0]}** ({ch[i][1]})" if i in ch else "-" for i in INPUTS))
+    far = res.get("far_agreement", {})
+    if far:
+        L += ["", "## Far from the origin: where Cycles agrees with itself", "",
+              f"The far cases' references against the origin's ({ORIGIN}) over the mask, and each method's RMSE "
+              f"from P over the pixels where the two references differ by under {AGREE_TOL} (and both masks "
+              "hold): at the far case / at the origin, and the change. Doing nothing's RMSE over the whole mask "
+              "is about 0.0435 on all three.", "",
+              "| case | references' RMSE to each other | pixels of the mask where they agree | " +
+              " | ".join(["hard"] + methods) + " |", "|---|---|---|" + "---|" * (len(methods) + 1)]
+        for n, fa in far.items():
+            cells = []
+            for m in ["hard"] + methods:
+                v = fa["rmse"].get(m)
+                cells.append("-" if not v else f"{v[0]:.5f} / {v[1]:.5f} ({100 * (v[0] / v[1] - 1):+.0f} %)")
+            L.append(f"| {n} | {fa['refs_rmse']:.4f} | {100 * fa['agree_share']:.0f} % | " + " | ".join(cells) + " |")
     fails = [(n, k, msg) for n in names for k, msg in cases[n]["failed"].items()]
     if fails:
         L += ["", "Failed runs (isg's one-line error):", ""] + [f"- {n}, {k}: `{msg}`" for n, k, msg in fails]
@@ -166,8 +230,10 @@ if not a.from_json:
     if not found:
         raise SystemExit("shadow_cases: no case with ref/softshadow_key.exr found")
     res = {"machine": platform.node(), "methods": methods, "cases": {}}
+    outs = {}
     for label, d in found:
-        res["cases"][label] = measure(t, label, d, methods)
+        res["cases"][label] = measure(t, label, d, methods, outs)
+    res["far_agreement"] = far_agreement(t, res, outs, methods)
     res["device"] = next((c.get("device") for c in res["cases"].values() if c.get("device")), "?")
     save("shadow_cases.json", res)
 report(load("shadow_cases.json"))
