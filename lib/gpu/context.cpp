@@ -232,8 +232,8 @@ Context::Context(const ContextOptions& opt) : user_callback_(opt.on_message) {
     if (info_.api_version < VK_API_VERSION_1_1 ||
         !(sg.supportedStages & VK_SHADER_STAGE_COMPUTE_BIT) ||
         (sg.supportedOperations & kNeeded) != kNeeded) {
-      throw GpuError("device " + info_.name +
-                     " has no subgroup arithmetic in compute shaders (Vulkan 1.1), which isg needs");
+      throw GpuError("device " + info_.name + " has no subgroup arithmetic in compute shaders " +
+                     "(Vulkan 1.1), which isg needs");
     }
     bool ts = false;
     int fam = compute_family(physical_, &ts);

@@ -163,20 +163,21 @@ TEST_F(GpuTest, HardShadowPassEqualsReferenceAndIsTimed) {
 // Specialization constants: one pipeline per set of values, made on first use and shared after
 // (a variant the validation layer rejects fails the fixture).
 TEST_F(GpuTest, KernelVariantsMakeOnePipelinePerConstantSet) {
-  gpu::KernelVariants v(ctx(), "shadows.isg.tiles", isg_spv_shadows_isg_tiles,
-                        {gpu::Slot::texels, gpu::Slot::texels, gpu::Slot::texels, gpu::Slot::texels,
-                         gpu::Slot::buffer, gpu::Slot::buffer},
-                        sizeof(isg::shaders::ShadowsIsgTilesPush), SHADOWS_ISG_TILE, SHADOWS_ISG_TILE);
+  auto variants = [&] {
+    return gpu::KernelVariants(
+        ctx(), "shadows.isg.tiles", isg_spv_shadows_isg_tiles,
+        {gpu::Slot::texels, gpu::Slot::texels, gpu::Slot::texels, gpu::Slot::texels,
+         gpu::Slot::buffer, gpu::Slot::buffer},
+        sizeof(isg::shaders::ShadowsIsgTilesPush), SHADOWS_ISG_TILE, SHADOWS_ISG_TILE);
+  };
+  gpu::KernelVariants v = variants();
   const size_t before = ctx().built_pipelines();
   const gpu::Kernel& a = v.at({0u});
   const gpu::Kernel& b = v.at({SHADOWS_ISG_HAS_POSITION});
   EXPECT_EQ(ctx().built_pipelines(), before + 2);
   EXPECT_NE(a.pipeline(), b.pipeline());
   EXPECT_EQ(&v.at({0u}), &a);
-  gpu::KernelVariants w(ctx(), "shadows.isg.tiles", isg_spv_shadows_isg_tiles,
-                        {gpu::Slot::texels, gpu::Slot::texels, gpu::Slot::texels, gpu::Slot::texels,
-                         gpu::Slot::buffer, gpu::Slot::buffer},
-                        sizeof(isg::shaders::ShadowsIsgTilesPush), SHADOWS_ISG_TILE, SHADOWS_ISG_TILE);
+  gpu::KernelVariants w = variants();  // a second pass of the same shader shares the pipelines
   EXPECT_EQ(w.at({SHADOWS_ISG_HAS_POSITION}).pipeline(), b.pipeline());
   EXPECT_EQ(ctx().built_pipelines(), before + 2);
 }

@@ -169,12 +169,12 @@ TEST_F(ShadowsIsg, GpuMatchesReference) {
       auto ref = fx::shadows_isg_reference(in, s, &st_ref);
       auto got = run_gpu(in, s, &st_gpu);
       const double diff = max_abs_diff(ref, got);
-      std::printf("GPU vs reference (%dx%d, P %d, sphere %d, rotate %d, reach %d, tile skip %d): max abs "
-                  "diff %.2e\n", c.w, c.h, int(with_p), int(sphere), int(c.rotate), int(c.search_reach),
-                  int(c.tile_skip), diff);
-      EXPECT_LT(diff, 1e-3) << c.w << "x" << c.h << " position " << with_p << " sphere " << sphere
-                            << " rotate " << c.rotate << " reach " << c.search_reach << " tile skip "
-                            << c.tile_skip;
+      std::printf("GPU vs reference (%dx%d, P %d, sphere %d, rotate %d, reach %d, tile skip %d): "
+                  "max abs diff %.2e\n", c.w, c.h, int(with_p), int(sphere), int(c.rotate),
+                  int(c.search_reach), int(c.tile_skip), diff);
+      EXPECT_LT(diff, 1e-3) << c.w << "x" << c.h << " position " << with_p << " sphere "
+                            << sphere << " rotate " << c.rotate << " reach " << c.search_reach
+                            << " tile skip " << c.tile_skip;
       EXPECT_EQ(st_ref.full_pixels, st_gpu.full_pixels);
       EXPECT_EQ(st_ref.clamped_pixels, st_gpu.clamped_pixels);
       EXPECT_NEAR(double(st_ref.searches), double(st_gpu.searches), 0.01 * double(st_ref.searches));

@@ -404,7 +404,8 @@ void DofPass::record_tiles(gpu::Sequence& seq, const gpu::Buffer& coc, const gpu
 
 void DofPass::record_search(gpu::Sequence& seq, const gpu::Buffer& coc, const gpu::Buffer& tiles,
                             const gpu::Buffer& radius, uint32_t w, uint32_t h) {
-  if (!k_->search) k_->search = make_kernel(ctx_, "dof.search", isg_spv_dof_search, {T, T, B}, blades());
+  if (!k_->search)
+    k_->search = make_kernel(ctx_, "dof.search", isg_spv_dof_search, {T, T, B}, blades());
   seq.dispatch(*k_->search,
                {Bind::floats(coc), Bind::floats(tiles), Bind::of(radius)},
                push_of(s_, w, h, false), w, h, "dof.search");

@@ -400,13 +400,12 @@ void ReflectionsPass::record(gpu::Sequence& seq, const ReflBuffers& b, uint32_t 
 
 void ReflectionsPass::record_pack(gpu::Sequence& seq, const ReflBuffers& b, uint32_t w,
                                   uint32_t h, const std::string& label) {
-  const bool has_rough = b.rough && !s_.roughness_override;
   const auto pc = push(w, h);
   // Two storage ranges of each buffer: the pixels' texels, and the coarse cells' from
   // REFL_COARSE_BASE (each within the device's storage-buffer range).
   const VkDeviceSize pixels = VkDeviceSize(w) * h * 16, cells = VkDeviceSize(REFL_COARSE_BASE(w, h)) * 16;
-  // Each pass is specialised on the flags it reads.
-  seq.dispatch(pack_.at({flags(b.has_position, has_rough) & REFL_HAS_POSITION}),
+  // Each pass is specialised on the flags it reads: reflections.pack on P.
+  seq.dispatch(pack_.at({b.has_position ? REFL_HAS_POSITION : 0u}),
                {gpu::Binding::floats(b.refl), gpu::Binding::floats(b.dist),
                 gpu::Binding::floats(b.weight), gpu::Binding::floats(b.normal),
                 gpu::Binding::floats(b.geo), gpu::Binding::floats(b.fg),
@@ -419,7 +418,6 @@ void ReflectionsPass::record_gather(gpu::Sequence& seq, const ReflBuffers& b, ui
                                     uint32_t h, const std::string& label) {
   const bool has_rough = b.rough && !s_.roughness_override;
   const auto pc = push(w, h);
-  const uint32_t f = flags(b.has_position, has_rough);
   // Without a roughness channel the slot is bound to refl.dist and never read.
   const gpu::Buffer& rb = has_rough ? *b.rough : b.dist;
   // reflections.list: the tiles with a glossy pixel, dispatched tiles_x wide by the rows the
@@ -429,11 +427,13 @@ void ReflectionsPass::record_gather(gpu::Sequence& seq, const ReflBuffers& b, ui
   init[REFL_AT_ARGS(nt)] = tx;
   init[REFL_AT_ARGS(nt) + 2] = 1u;
   b.tiles.upload(std::span<const uint32_t>(init));
-  seq.dispatch(list_.at({f & REFL_HAS_ROUGHNESS}), {gpu::Binding::float4s(b.pack_color), gpu::Binding::floats(rb),
-                              gpu::Binding::of(b.tiles)},
+  seq.dispatch(list_.at({has_rough ? REFL_HAS_ROUGHNESS : 0u}),
+               {gpu::Binding::float4s(b.pack_color), gpu::Binding::floats(rb),
+                gpu::Binding::of(b.tiles)},
                pc, nt, 1, label + ".list");
   seq.copy(b.refl, b.glossy, 3 * uint64_t(w) * h * sizeof(float), label + ".copy");
-  seq.dispatch_indirect(kernel_.at({f, s_.method == "blur" ? REFL_MODE_BLUR : REFL_MODE_ISG}),
+  seq.dispatch_indirect(kernel_.at({flags(b.has_position, has_rough),
+                                    s_.method == "blur" ? REFL_MODE_BLUR : REFL_MODE_ISG}),
                         {gpu::Binding::texels(b.pack_geo, VK_FORMAT_R32G32B32A32_UINT),
                          gpu::Binding::float4s(b.pack_color), gpu::Binding::floats(rb),
                          gpu::Binding::float4s(*samples_), gpu::Binding::of(b.glossy),
