@@ -2,6 +2,7 @@
 #include <sys/resource.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <iomanip>
 #include <iostream>
 #include <optional>
@@ -80,7 +81,8 @@ void print_timings(isg::gpu::Context& ctx, const isg::run::LoadedFrame& f,
     roof = isg::roofline::roofline_taps_per_second(ctx, std::max(f.img.width, 64), std::max(f.img.height, 64));
   for (const auto& g : st.gathers) {
     double ms = 0;
-    for (const auto& t : st.passes) ms += t.name == g.pass ? t.ms : 0.0;
+    for (const auto& t : st.passes)
+      ms += t.name == g.pass || std::ranges::find(g.dispatches, t.name) != g.dispatches.end() ? t.ms : 0.0;
     const double rate = ms > 0 ? double(g.samples) / (ms * 1e-3) : 0.0;
     const double taps = rate * g.taps_per_sample;
     std::cout << g.pass << ": " << g.pixels << " pixels, " << g.samples << " samples ("

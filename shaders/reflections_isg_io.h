@@ -65,15 +65,35 @@ ISG_IO_BEGIN
 #define REFL_COARSE_AT(w, h, cx, cy) (REFL_COARSE_BASE(w, h) + REFL_COARSE_CELL(w, cx, cy))
 #define REFL_REUSE_RATIO 1.25
 #define REFL_REUSE_COVER 0.5
-// refl.tiles (uint words) holds −(glossy pixels + REFL_STATS_SEARCHES · searches) for a tile that
-// gathered (1 for a cheap tile), then the number of gathers each tile ran (both float bits);
-// then the tiles reflections.isg runs on (reflections.list): a VkDispatchIndirectCommand
-// (tiles_x by the rows the list fills), their number and the tile indices.
+// refl.tiles (uint words) holds, per tile, glossy pixels + REFL_STATS_SEARCHES · searches
+// (REFL_TILE_CHEAP for a tile with nothing glossy), then the number of gathers each tile ran (the
+// dispatches add theirs atomically to zero); then the tiles reflections.isg runs on
+// (reflections.list): a VkDispatchIndirectCommand (tiles_x by the rows the list fills), their
+// number and the tile indices; then the VkDispatchIndirectCommand of reflections.isg.own
+// (REFL_OWN_ROW by the rows its list fills) and the number of pixels on that list. Then, for
+// method isg, the records of the listed tiles' quads, two words each: the glossy mask of its four
+// pixels (bit k at (k & 1, k >> 1)) and its representative's t̄ (float bits), REFL_QUADS² a tile;
+// then, from a 16-byte boundary, their blocks' wide gathers, two 16-byte texels each: the mean and
+// R_s (float bits; R_s < 0: none), and the representative's refl.pack.geo texel (P − eye, oct N),
+// REFL_BLOCKS² a tile; then the pixels reflections.isg.own finishes (their indices).
 #define REFL_STATS_SEARCHES 1024u
+#define REFL_TILE_CHEAP 0xffffffffu
+#define REFL_QUADS (REFL_TILE / 2u)   // 2×2 quads a tile row
+#define REFL_BLOCKS (REFL_TILE / 4u)  // 4×4 blocks a tile row
 #define REFL_AT_ARGS(nt) (2u * (nt))
 #define REFL_AT_COUNT(nt) (2u * (nt) + 3u)
 #define REFL_AT_LIST(nt) (2u * (nt) + 4u)
-#define REFL_TILES_WORDS(nt) (3u * (nt) + 4u)
+#define REFL_AT_OWN_ARGS(nt) (3u * (nt) + 4u)
+#define REFL_AT_OWN_COUNT(nt) (3u * (nt) + 7u)
+#define REFL_TILES_WORDS(nt) (3u * (nt) + 8u)  // the header above (method blur: all)
+#define REFL_AT_QUADS(nt) (REFL_TILES_WORDS(nt))
+#define REFL_AT_BLOCKS(nt) ((REFL_AT_QUADS(nt) + 2u * REFL_QUADS * REFL_QUADS * (nt) + 3u) / 4u * 4u)
+#define REFL_AT_OWN(nt) (REFL_AT_BLOCKS(nt) + 8u * REFL_BLOCKS * REFL_BLOCKS * (nt))
+#define REFL_TILES_WORDS_ISG(nt) (REFL_AT_OWN(nt) + REFL_TILE * REFL_TILE * (nt))
+// Pass reflections.isg.own: a lane per listed pixel, REFL_OWN_LOCAL a workgroup, REFL_OWN_ROW
+// workgroups a row of the dispatch.
+#define REFL_OWN_LOCAL 64u
+#define REFL_OWN_ROW 256u
 // Pass reflections.list: one lane per tile.
 #define REFL_LIST_LOCAL 64
 struct ReflIsgPush {

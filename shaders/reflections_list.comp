@@ -33,7 +33,7 @@ void main() {
     // The dispatch is tiles_x wide: a row of workgroups per tiles_x entries begun.
     if (k % tiles_x == 0u) atomicAdd(tiles[REFL_AT_ARGS(nt) + 1u], 1u);
   } else {
-    tiles[t] = floatBitsToUint(1.0);
-    tiles[nt + t] = floatBitsToUint(0.0);
+    tiles[t] = REFL_TILE_CHEAP;
+    tiles[nt + t] = 0u;
   }
 }

@@ -142,6 +142,7 @@ struct GatherLoad {
   std::string pass;  // the plan's Pass::label (its name in the timings)
   uint64_t pixels = 0, samples = 0;
   uint32_t taps_per_sample = 1;
+  std::vector<std::string> dispatches;  // the timings that add to `pass`'s (its other dispatches)
 };
 
 // Effects run in two stages: on the input AOVs (their composite terms add up, their reaches

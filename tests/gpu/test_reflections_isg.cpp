@@ -52,7 +52,7 @@ GpuOut run_gpu(gpu::Context& ctx, const fx::ReflInputs& in, const fx::ReflSettin
   std::optional<gpu::Buffer> rough;
   if (!in.roughness.empty()) rough.emplace(upload(ctx, in.roughness, "roughness"));
   gpu::Buffer glossy(ctx, 3 * n * sizeof(float), "refl.glossy"),
-      tiles(ctx, fx::refl_tiles_words(w, h) * 4, "refl.tiles"),
+      tiles(ctx, fx::refl_tiles_words(w, h, s.method == "isg") * 4, "refl.tiles"),
       pack_geo(ctx, fx::refl_pack_texels(w, h) * 16, "refl.pack.geo"),
       pack_color(ctx, fx::refl_pack_texels(w, h) * 16, "refl.pack.color");
   fx::ReflectionsPass pass(ctx, s);

@@ -116,7 +116,7 @@ class Reflections final : public Effect {
     reads = {"refl.pack.geo", "refl.pack.color"};
     if (roles.has("roughness") && !inst->s.roughness_override) reads.push_back("roughness");
     out.need("refl.glossy", 3, false);
-    out.buffer("refl.tiles", uint64_t(refl_tiles_words(uint32_t(c.width), uint32_t(c.height))) * 4);
+    out.buffer("refl.tiles", uint64_t(refl_tiles_words(w, h, st.method == "isg")) * 4);
     out.pass("reflections", k, "reflections.isg", "reflections." + st.method, reads,
              {"refl.glossy", "refl.tiles"});
     plan_composite_term(out, k, "composite[reflections]", "refl.weight", "refl.glossy", "refl");

@@ -46,9 +46,11 @@ class ReflRecorder final : public Recorder {
     r.sum("skipped", rt.skipped_fraction);
     out.reports.push_back(r);
     const auto& s = inst.s;
-    out.gathers.push_back({frame_[&inst].label, rt.glossy_pixels,
+    const std::string& label = frame_[&inst].label;
+    out.gathers.push_back({label, rt.glossy_pixels,
                            rt.searches * uint64_t(s.grid_search * s.grid_search) +
-                               rt.gathers * uint64_t(s.grid_gather * s.grid_gather)});
+                               rt.gathers * uint64_t(s.grid_gather * s.grid_gather),
+                           1, ReflectionsPass::dispatches(s, label)});
     frame_.erase(&inst);
   }
 

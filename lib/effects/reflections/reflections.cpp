@@ -8,6 +8,9 @@
 #include "effects/sampling.h"
 #include "effects/view.h"
 #include "isg/shaders/reflections_isg.spv.h"
+#include "isg/shaders/reflections_isg_search.spv.h"
+#include "isg/shaders/reflections_isg_wide.spv.h"
+#include "isg/shaders/reflections_isg_own.spv.h"
 #include "isg/shaders/reflections_list.spv.h"
 #include "isg/shaders/reflections_pack.spv.h"
 #include "reflections_isg_io.h"
@@ -339,6 +342,11 @@ std::vector<float> sample_table(int grid_search, int grid_gather) {
   }
   return t;
 }
+// The slots of reflections.isg's three dispatches (shaders/reflections_isg.h).
+std::vector<gpu::Slot> isg_slots() {
+  return {gpu::Slot::texels, gpu::Slot::texels, gpu::Slot::texels, gpu::Slot::texels,
+          gpu::Slot::buffer, gpu::Slot::buffer, gpu::Slot::texels};
+}
 }  // namespace
 
 ReflectionsPass::ReflectionsPass(gpu::Context& ctx, const ReflSettings& s)
@@ -352,10 +360,14 @@ ReflectionsPass::ReflectionsPass(gpu::Context& ctx, const ReflSettings& s)
       list_(ctx, "reflections.list", isg_spv_reflections_list,
             {gpu::Slot::texels, gpu::Slot::texels, gpu::Slot::buffer}, sizeof(shaders::ReflIsgPush),
             REFL_LIST_LOCAL, 1),
-      kernel_(ctx, "reflections.isg", isg_spv_reflections_isg,
-              {gpu::Slot::texels, gpu::Slot::texels, gpu::Slot::texels, gpu::Slot::texels,
-               gpu::Slot::buffer, gpu::Slot::buffer},
-              sizeof(shaders::ReflIsgPush), REFL_TILE, REFL_TILE) {
+      search_(ctx, "reflections.isg.search", isg_spv_reflections_isg_search, isg_slots(),
+              sizeof(shaders::ReflIsgPush), REFL_QUADS, REFL_QUADS),
+      wide_(ctx, "reflections.isg.wide", isg_spv_reflections_isg_wide, isg_slots(),
+            sizeof(shaders::ReflIsgPush), REFL_BLOCKS, REFL_BLOCKS),
+      kernel_(ctx, "reflections.isg", isg_spv_reflections_isg, isg_slots(),
+              sizeof(shaders::ReflIsgPush), REFL_TILE, REFL_TILE),
+      own_(ctx, "reflections.isg.own", isg_spv_reflections_isg_own, isg_slots(),
+           sizeof(shaders::ReflIsgPush), REFL_OWN_LOCAL, 1) {
   const auto table = sample_table(s_.grid_search, s_.grid_gather);
   samples_ = std::make_unique<gpu::Buffer>(ctx, table.size() * sizeof(float), "refl.samples");
   samples_->upload(std::span<const float>(table));
@@ -423,34 +435,55 @@ void ReflectionsPass::record_gather(gpu::Sequence& seq, const ReflBuffers& b, ui
   // reflections.list: the tiles with a glossy pixel, dispatched tiles_x wide by the rows the
   // list fills (the statistics of the tiles left out it writes itself); the others keep refl.
   const uint32_t tx = (w + REFL_TILE - 1) / REFL_TILE, nt = refl_tiles(w, h);
-  std::vector<uint32_t> init(refl_tiles_words(w, h), 0u);
+  // The statistics (zero: the dispatches add to them) and the list's header; the records are
+  // written before they are read.
+  std::vector<uint32_t> init(refl_tiles_words(w, h, false), 0u);
   init[REFL_AT_ARGS(nt)] = tx;
   init[REFL_AT_ARGS(nt) + 2] = 1u;
+  init[REFL_AT_OWN_ARGS(nt)] = REFL_OWN_ROW;
+  init[REFL_AT_OWN_ARGS(nt) + 2] = 1u;
   b.tiles.upload(std::span<const uint32_t>(init));
   seq.dispatch(list_.at({has_rough ? REFL_HAS_ROUGHNESS : 0u}),
                {gpu::Binding::float4s(b.pack_color), gpu::Binding::floats(rb),
                 gpu::Binding::of(b.tiles)},
                pc, nt, 1, label + ".list");
   seq.copy(b.refl, b.glossy, 3 * uint64_t(w) * h * sizeof(float), label + ".copy");
-  seq.dispatch_indirect(kernel_.at({flags(b.has_position, has_rough),
-                                    s_.method == "blur" ? REFL_MODE_BLUR : REFL_MODE_ISG}),
-                        {gpu::Binding::texels(b.pack_geo, VK_FORMAT_R32G32B32A32_UINT),
-                         gpu::Binding::float4s(b.pack_color), gpu::Binding::floats(rb),
-                         gpu::Binding::float4s(*samples_), gpu::Binding::of(b.glossy),
-                         gpu::Binding::of(b.tiles)},
-                        pc, b.tiles, uint64_t(REFL_AT_ARGS(nt)) * 4, label);
+  // Method isg: the quads' searches, then the blocks' wide gathers, then the pixels; each over
+  // the listed tiles, a lane per quad, block and pixel (shaders/reflections_isg.h).
+  const std::vector<gpu::Binding> bind = {
+      gpu::Binding::texels(b.pack_geo, VK_FORMAT_R32G32B32A32_UINT), gpu::Binding::float4s(b.pack_color),
+      gpu::Binding::floats(rb), gpu::Binding::float4s(*samples_), gpu::Binding::of(b.glossy),
+      gpu::Binding::of(b.tiles), gpu::Binding::texels(b.tiles, VK_FORMAT_R32G32B32A32_UINT)};
+  const uint64_t args = uint64_t(REFL_AT_ARGS(nt)) * 4;
+  const uint32_t fl = flags(b.has_position, has_rough);
+  const bool blur = s_.method == "blur";
+  if (!blur) {
+    const auto names = dispatches(s_, label);
+    seq.dispatch_indirect(search_.at({fl}), bind, pc, b.tiles, args, names[0]);
+    seq.dispatch_indirect(wide_.at({fl}), bind, pc, b.tiles, args, names[1]);
+  }
+  seq.dispatch_indirect(kernel_.at({fl, blur ? REFL_MODE_BLUR : REFL_MODE_ISG}), bind, pc, b.tiles,
+                        args, label);
+  if (!blur)
+    seq.dispatch_indirect(own_.at({fl}), bind, pc, b.tiles, uint64_t(REFL_AT_OWN_ARGS(nt)) * 4,
+                          dispatches(s_, label)[2]);
+}
+
+std::vector<std::string> ReflectionsPass::dispatches(const ReflSettings& s, const std::string& label) {
+  if (s.method == "blur") return {};
+  return {label + ".search", label + ".wide", label + ".own"};
 }
 
 ReflTileStats ReflectionsPass::stats(const gpu::Buffer& tiles, uint32_t w, uint32_t h) {
   const uint32_t nt = refl_tiles(w, h);
-  auto t = tiles.download_as<float>(2 * size_t(nt));
+  auto t = tiles.download_as<uint32_t>(2 * size_t(nt));
   ReflTileStats st;
   size_t k = 0;
-  for (uint32_t j = nt; j < 2 * nt; ++j) st.gathers += uint64_t(t[j]);
+  for (uint32_t j = nt; j < 2 * nt; ++j) st.gathers += t[j];
   t.resize(nt);
-  for (float v : t) {
-    k += v > 0.0f ? 1 : 0;
-    const uint64_t c = v < 0.0f ? uint64_t(-v) : 0;
+  for (uint32_t v : t) {
+    k += v == REFL_TILE_CHEAP ? 1 : 0;
+    const uint64_t c = v == REFL_TILE_CHEAP ? 0 : v;
     st.glossy_pixels += c % REFL_STATS_SEARCHES;
     st.searches += c / REFL_STATS_SEARCHES;
   }

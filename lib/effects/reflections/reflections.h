@@ -60,6 +60,9 @@ class ReflectionsPass {
                    const std::string& label);
   void record_gather(gpu::Sequence& seq, const ReflBuffers& b, uint32_t w, uint32_t h,
                      const std::string& label);
+  // The dispatches record_gather adds around the one named `label` (method isg's search, wide
+  // gathers and the pixels that search or gather for themselves; none for method blur).
+  static std::vector<std::string> dispatches(const ReflSettings& s, const std::string& label);
   // After submit: the tiles that took the cheap path and the pixels that were gathered.
   static ReflTileStats stats(const gpu::Buffer& tiles, uint32_t w, uint32_t h);
 
@@ -67,7 +70,7 @@ class ReflectionsPass {
   shaders::ReflIsgPush push(uint32_t w, uint32_t h) const;
   uint32_t flags(bool has_position, bool has_rough) const;  // specialization constant 0
   ReflSettings s_;
-  gpu::KernelVariants pack_, list_, kernel_;
+  gpu::KernelVariants pack_, list_, search_, wide_, kernel_, own_;
   std::unique_ptr<gpu::Buffer> samples_;  // the lattice table (sample_table)
 };
 

@@ -37,7 +37,10 @@ uint32_t refl_tiles(uint32_t w, uint32_t h) {
   return ((w + REFL_TILE - 1) / REFL_TILE) * ((h + REFL_TILE - 1) / REFL_TILE);
 }
 
-uint32_t refl_tiles_words(uint32_t w, uint32_t h) { return REFL_TILES_WORDS(refl_tiles(w, h)); }
+uint32_t refl_tiles_words(uint32_t w, uint32_t h, bool records) {
+  const uint32_t nt = refl_tiles(w, h);
+  return records ? REFL_TILES_WORDS_ISG(nt) : REFL_TILES_WORDS(nt);
+}
 
 uint64_t refl_pack_texels(uint32_t w, uint32_t h) {
   // The texel after the last cell's (the cell rows' count is REFL_COARSE_CELLS(h)).

@@ -43,8 +43,9 @@ double ggx_cone_tan(double alpha, double energy);
 
 // 16x16 tiles (REFL_TILE) of a w x h image (refl.tiles holds two words per tile).
 uint32_t refl_tiles(uint32_t w, uint32_t h);
-// The words of refl.tiles (shaders/reflections_isg_io.h).
-uint32_t refl_tiles_words(uint32_t w, uint32_t h);
+// The words of refl.tiles (shaders/reflections_isg_io.h); `records`: with the quads' and blocks'
+// records method isg's three dispatches pass on (method blur has none).
+uint32_t refl_tiles_words(uint32_t w, uint32_t h, bool records);
 // The 16-byte texels of refl.pack.geo and refl.pack.color: the image's, then its REFL_COARSE²
 // cells' (shaders/reflections_isg_io.h).
 uint64_t refl_pack_texels(uint32_t w, uint32_t h);
