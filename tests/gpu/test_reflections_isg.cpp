@@ -245,13 +245,49 @@ TEST_F(GpuTest, ReflectionsMatchReference) {
     const bool with_p = variant % 2 == 0;
     auto in = random_scene(w, h, with_p, variant == 4 ? 12u : 7u + unsigned(variant), s);
     if (variant == 2) in.roughness.clear();  // the preset roughness everywhere
+    // Variants 0 and 4: the rough object reflects too. Its depth is noisy, so pixels of a quad
+    // lie on different surfaces (eq. 10) and search for themselves (reflections.isg.own).
+    const size_t n = size_t(w) * h;
+    if (variant == 0 || variant == 4)
+      for (size_t i = 0; i < n; ++i)
+        if (in.roughness[i] == 1.0f) {
+          for (int c = 0; c < 3; ++c) in.weight[c * n + i] = 0.6f;
+          in.dist[i] = 0.2f + 0.1f * float(i % 7);
+        }
     std::vector<float> ref_tiles;
-    auto ref = fx::reflections_reference(in, s, &ref_tiles);
+    fx::ReflTileStats rst;
+    auto ref = fx::reflections_reference(in, s, &ref_tiles, &rst);
     auto g = run_gpu(ctx(), in, s);
     EXPECT_LT(fraction_off(g.glossy, ref, 1e-3), 0.005) << "variant " << variant;
     double skipped = 0;
     for (float t : ref_tiles) skipped += t;
     EXPECT_NEAR(g.skipped, skipped / double(ref_tiles.size()), 1e-12);
+    // The statistics: method isg's searches (the quads' and, on the list reflections.isg.own
+    // finishes, the pixels' own) and gathers as the reference runs them; a float decision at a
+    // threshold may flip a few.
+    EXPECT_EQ(g.stats.glossy_pixels, rst.glossy_pixels) << "variant " << variant;
+    EXPECT_NEAR(double(g.stats.searches), double(rst.searches), 0.01 * double(rst.searches) + 1) << "variant " << variant;
+    EXPECT_NEAR(double(g.stats.gathers), double(rst.gathers), 0.01 * double(rst.gathers) + 1) << "variant " << variant;
+    // The quads' searches (those holding a glossy pixel); the rest are the pixels' own.
+    uint64_t quads = 0;
+    for (int y = 0; y < h; y += 2)
+      for (int x = 0; x < w; x += 2) {
+        bool any = false;
+        for (int k = 0; k < 4; ++k) {
+          const int px = x + (k & 1), py = y + (k >> 1);
+          const size_t i = size_t(py) * w + px;
+          any = any || (px < w && py < h && in.fg[i] != 0.0f && in.weight[i] > 0.0f &&
+                        (in.roughness.empty() ? s.roughness : in.roughness[i]) > REFL_MIN_ROUGHNESS);
+        }
+        quads += any ? 1 : 0;
+      }
+    std::printf("variant %d: %llu searches (%llu quads'), %llu gathers (reference %llu, %llu)\n",
+                variant, (unsigned long long)g.stats.searches, (unsigned long long)quads,
+                (unsigned long long)g.stats.gathers, (unsigned long long)rst.searches,
+                (unsigned long long)rst.gathers);
+    if (variant == 0 || variant == 4) {
+      EXPECT_GT(g.stats.searches, quads + 50) << "variant " << variant;
+    }
     // Roughly half the glossy pixels actually change (the check compares something).
     size_t changed = 0;
     for (size_t i = 0; i < ref.size(); ++i) changed += std::abs(ref[i] - in.refl[i]) > 1e-3;
@@ -274,14 +310,23 @@ TEST_F(GpuTest, ReflectionsWideLobesReuseTheQuadsGathers) {
     auto in = random_scene(w, h, variant == 0, 11u + unsigned(variant), s);
     in.roughness.clear();  // one roughness: lobes of one width, so the footprint test passes
     s.roughness = 0.6;
-    auto ref = fx::reflections_reference(in, s);
+    fx::ReflTileStats rst;
+    auto ref = fx::reflections_reference(in, s, nullptr, &rst);
     auto g = run_gpu(ctx(), in, s);
     EXPECT_LT(fraction_off(g.glossy, ref, 1e-3), 0.005) << "variant " << variant;
-    std::printf("variant %d: %llu glossy pixels, %llu gathers, %llu searches\n", variant,
-                (unsigned long long)g.stats.glossy_pixels, (unsigned long long)g.stats.gathers,
-                (unsigned long long)g.stats.searches);
+    std::printf("variant %d: %llu glossy pixels, %llu gathers, %llu searches (reference %llu, %llu, %llu)\n",
+                variant, (unsigned long long)g.stats.glossy_pixels, (unsigned long long)g.stats.gathers,
+                (unsigned long long)g.stats.searches, (unsigned long long)rst.glossy_pixels,
+                (unsigned long long)rst.gathers, (unsigned long long)rst.searches);
     EXPECT_GT(g.stats.glossy_pixels, size_t(w * h / 4));
     EXPECT_LT(g.stats.gathers, g.stats.glossy_pixels / 2) << "variant " << variant;
+    // The statistics count what the reference runs (the quads' searches and the pixels' own, the
+    // blocks' wide gathers and the pixels' own: reflections.isg.own's list); a float decision
+    // at a threshold may flip a few.
+    EXPECT_EQ(g.stats.glossy_pixels, rst.glossy_pixels);
+    EXPECT_NEAR(double(g.stats.searches), double(rst.searches), 0.01 * double(rst.searches) + 1);
+    EXPECT_NEAR(double(g.stats.gathers), double(rst.gathers), 0.01 * double(rst.gathers) + 1);
+    EXPECT_DOUBLE_EQ(g.skipped, rst.skipped_fraction);
     size_t changed = 0;
     for (size_t i = 0; i < ref.size(); ++i) changed += std::abs(ref[i] - in.refl[i]) > 1e-3;
     EXPECT_GT(changed, ref.size() / 4) << "variant " << variant;

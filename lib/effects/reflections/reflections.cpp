@@ -37,6 +37,8 @@ struct Ctx {
   const ReflInputs& in;
   const ReflSettings& s;
   size_t n;
+  uint64_t* searches;  // statistics: searches and gathers run (as the GPU's ReflTileStats)
+  uint64_t* gathers;
   V3 rgb(const std::vector<float>& v, size_t i) const { return {v[i], v[n + i], v[2 * n + i]}; }
   double rough(size_t i) const {
     return in.roughness.empty() || s.roughness_override ? s.roughness : double(in.roughness[i]);
@@ -255,8 +257,12 @@ struct Ctx {
     if (Q.rep == size_t(-1)) return Q;
     const Lobe L = lobe(int(Q.rep % in.w), int(Q.rep / in.w), Q.rep);
     Q.t = search(L, Q.rep);
+    ++*searches;
     const Foot F = footprint(L, Q.t);
-    if (qx % 2 == 0 && qy % 2 == 0 && F.R_s >= REFL_REUSE_RADIUS) Q.R_s = F.R_s, Q.mean = gather_mean(L, Q.rep, F);
+    if (qx % 2 == 0 && qy % 2 == 0 && F.R_s >= REFL_REUSE_RADIUS) {
+      Q.R_s = F.R_s, Q.mean = gather_mean(L, Q.rep, F);
+      ++*gathers;
+    }
     return Q;
   }
   // A wide lobe's mean, bilinear from the blocks' gathers around the pixel in its tile's block
@@ -284,12 +290,14 @@ struct Ctx {
     const Lobe L = lobe(x, y, i);
     const Quad& Q = quad(x / 2, y / 2, quads);
     const bool same = Q.rep == i || range(Q.rep, L.P0, L.N0) >= REFL_QUAD_SAME;
+    *searches += same ? 0 : 1;
     const Foot F = footprint(L, same ? Q.t : search(L, i));
     V3 m{};
     if (F.R_s >= REFL_REUSE_RADIUS && reuse(x, y, L, F.R_s, quads, m)) {
       const double al = albedo(L);
       return {al * m[0], al * m[1], al * m[2]};
     }
+    *gathers += F.R_s >= 0.25 ? 1 : 0;
     return gather(L, i, F);
   }
 };
@@ -300,9 +308,10 @@ double ggx_cone_tan(double alpha, double energy) {
 }
 
 std::vector<float> reflections_reference(const ReflInputs& in, const ReflSettings& s,
-                                         std::vector<float>* tiles) {
+                                         std::vector<float>* tiles, ReflTileStats* stats) {
   const size_t n = size_t(in.w) * in.h;
-  Ctx c{in, s, n};
+  ReflTileStats st;
+  Ctx c{in, s, n, &st.searches, &st.gathers};
   std::vector<float> out(in.refl.begin(), in.refl.begin() + 3 * n);
   const int tx = (in.w + REFL_TILE - 1) / REFL_TILE, ty = (in.h + REFL_TILE - 1) / REFL_TILE;
   if (tiles) tiles->assign(size_t(tx) * ty, 0.0f);
@@ -314,17 +323,20 @@ std::vector<float> reflections_reference(const ReflInputs& in, const ReflSetting
         for (int x = bx * REFL_TILE; x < std::min(in.w, (bx + 1) * REFL_TILE); ++x)
           any = any || c.glossy(size_t(y) * in.w + x);
       if (tiles) (*tiles)[size_t(by) * tx + bx] = any ? 0.0f : 1.0f;
+      st.skipped_fraction += any ? 0.0 : 1.0 / (double(tx) * ty);
       if (!any) continue;  // the cheap path: refl.glossy = refl
       for (int y = by * REFL_TILE; y < std::min(in.h, (by + 1) * REFL_TILE); ++y) {
         for (int x = bx * REFL_TILE; x < std::min(in.w, (bx + 1) * REFL_TILE); ++x) {
           const size_t i = size_t(y) * in.w + x;
           if (!c.glossy(i)) continue;
+          ++st.glossy_pixels;
           V3 v = s.method == "blur" ? c.blur(x, y, i) : c.isg(x, y, i, quads);
           for (int k = 0; k < 3; ++k) out[k * n + i] = float(v[k]);
         }
       }
     }
   }
+  if (stats) *stats = st;
   return out;
 }
 

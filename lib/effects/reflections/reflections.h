@@ -26,10 +26,19 @@ struct ReflInputs {
   std::vector<float> refl, dist, weight, normal, position, depth, roughness, fg;
 };
 
+struct ReflTileStats {
+  double skipped_fraction = 0;  // tiles with nothing glossy
+  uint64_t glossy_pixels = 0;   // pixels that gathered
+  uint64_t searches = 0;        // parameter searches run (one per quad, more at edges)
+  uint64_t gathers = 0;         // gathers run (one per quad for wide lobes, more at edges)
+};
+
 // C++ double-precision reference of pass reflections.isg; returns refl.glossy (3 planes) and,
-// in `tiles`, 1 per 16×16 tile that took the cheap path (nothing glossy), else 0.
+// in `tiles`, 1 per 16×16 tile that took the cheap path (nothing glossy), else 0; in `stats`,
+// what the GPU's statistics count (the searches and gathers of method isg).
 std::vector<float> reflections_reference(const ReflInputs& in, const ReflSettings& s,
-                                         std::vector<float>* tiles = nullptr);
+                                         std::vector<float>* tiles = nullptr,
+                                         ReflTileStats* stats = nullptr);
 
 // The buffers pass reflections.isg binds. geo: P (has_position) or Z; rough may be null
 // (preset roughness); pack_geo and pack_color (4 planes each) are reflections.pack's products.
@@ -41,12 +50,6 @@ struct ReflBuffers {
   gpu::Buffer& tiles;  // set up by the pass (its list)
 };
 
-struct ReflTileStats {
-  double skipped_fraction = 0;  // tiles with nothing glossy
-  uint64_t glossy_pixels = 0;   // pixels that gathered
-  uint64_t searches = 0;        // parameter searches run (one per quad, more at edges)
-  uint64_t gathers = 0;         // gathers run (one per quad for wide lobes, more at edges)
-};
 
 // reflections.pack (the taps' data in two 16-byte texels a pixel) then reflections.isg.
 class ReflectionsPass {
