@@ -119,7 +119,8 @@ def page(r):
           "four bilinear taps (binaries that printed no taps counted samples). The share falls as "
           "the samples a pixel fall (the per-pixel work stays): *nominal lattice* is the time the "
           "roofline's gather would take for the same pixels at the preset's full lattice (search "
-          "plus gather samples a pixel, as many taps each), over the pass's own time, i.e. the "
+          "plus gather samples a pixel, as many taps each), over the pass's time (all its "
+          "dispatches), i.e. the "
           "share times nominal samples / samples taken.", "",
           "| binary | run | pass | pixels | samples a pixel | taps a sample | M samples/s | M taps/s | "
           "roofline M taps/s | share | nominal lattice |",

@@ -6,7 +6,7 @@
 // representative (its own search) or with a footprint between (its own gather, eq. 4, 13, 14)
 // joins the list reflections.isg.own finishes: on lavapipe every lane would run, masked, the
 // loops of the few that need them. Method blur: a constant-width disk blur of refl.
-// shaders/reflections_isg.h holds what the three dispatches share.
+// shaders/reflections_isg.h holds what the four dispatches share.
 #extension GL_GOOGLE_include_directive : require
 #extension GL_KHR_shader_subgroup_arithmetic : require
 #extension GL_KHR_shader_subgroup_basic : require

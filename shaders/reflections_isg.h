@@ -1,13 +1,14 @@
-// GLSL only: what the three dispatches of reflections.isg share (paper §3.2): the bindings, the
+// GLSL only: what the four dispatches of reflections.isg share (paper §3.2): the bindings, the
 // pixel's lobe (eq. 13, 14), the parameter search (eq. 4 with the range function of eq. 10-12),
 // the gather, and the tile's records. lib/effects/reflections/reflections.cpp mirrors every step
 // in double.
 // Speed (issue 18): every tap is one point sample of two packed texels (reflections.pack); the
 // sample lattice comes from a table made on the host; the lobe warp is algebraic (no atan/tan/cos
 // per tap). The search runs once per 2×2 quad (reflections_isg_search.comp), the wide gathers once
-// per 4×4 block (reflections_isg_wide.comp), each a lane of its own dispatch, and the pixels read
-// their records (reflections_isg.comp): no shader has a barrier or shared memory, which on lavapipe
-// run a workgroup's lanes as coroutines (docs/design.md).
+// per 4×4 block (reflections_isg_wide.comp), each a lane of its own dispatch, the pixels read
+// their records (reflections_isg.comp), and the few that search or gather for themselves are
+// finished from a list (reflections_isg_own.comp): no shader has a barrier or shared memory,
+// which on lavapipe run a workgroup's lanes as coroutines (docs/design.md).
 #ifndef REFLECTIONS_ISG_H
 #define REFLECTIONS_ISG_H
 #include "reflections_isg_io.h"

@@ -2,7 +2,8 @@
 #define REFLECTIONS_ISG_IO_H
 #include "isg_io.h"
 ISG_IO_BEGIN
-// One workgroup is one tile: a tile with no glossy pixel takes the cheap path (refl copied).
+// Tiles of REFL_TILE² pixels: reflections.list keeps those with a glossy pixel; the others take
+// the cheap path (refl copied). reflections.isg's workgroup is one tile.
 #define REFL_TILE 16
 // Pass reflections.pack: workgroup width (one row of pixels).
 #define REFL_PACK_LOCAL 64

@@ -1,5 +1,5 @@
 #version 450
-// Pass reflections.isg.search (method isg, step 1 of 3): a lane per 2×2 quad of the tiles
+// Pass reflections.isg.search (method isg, step 1 of 4): a lane per 2×2 quad of the tiles
 // reflections.list kept. The quad's glossy pixels, and the parameter search (eq. 4, 10-12) of its
 // first glossy pixel (the representative) over its whole lattice; both into the quad's record in
 // refl.tiles for reflections.isg.wide and reflections.isg.

@@ -1,5 +1,5 @@
 #version 450
-// Pass reflections.isg.wide (method isg, step 2 of 3): a lane per 4×4 block of the tiles
+// Pass reflections.isg.wide (method isg, step 2 of 4): a lane per 4×4 block of the tiles
 // reflections.list kept. Where the footprint (eq. 13) of the block's top-left quad's
 // representative is wide (R_s ≥ REFL_REUSE_RADIUS), its gather over the whole lattice (eq. 4,
 // 13, 14): the mean the block's pixels with wide lobes take bilinearly in reflections.isg.

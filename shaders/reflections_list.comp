@@ -1,8 +1,8 @@
 #version 450
 // Pass reflections.list: the tiles reflections.isg runs on, those with a glossy pixel (issue 18:
 // on lavapipe a workgroup of reflections.isg costs about as much to start and classify itself as
-// a cheap tile's work). One lane per tile; a tile left out is marked cheap as reflections.isg would
-// mark it and keeps refl, copied into refl.glossy before. No output depends on the list's order.
+// a cheap tile's work). One lane per tile; a tile left out is marked cheap (REFL_TILE_CHEAP) and
+// keeps refl, copied into refl.glossy before. No output depends on the list's order.
 #extension GL_GOOGLE_include_directive : require
 #include "reflections_isg_io.h"
 layout(local_size_x = REFL_LIST_LOCAL) in;

@@ -221,8 +221,9 @@ Context::Context(const ContextOptions& opt) : user_callback_(opt.on_message) {
       throw GpuError("--require-gpu: the only usable device is a CPU implementation (" +
                      info_.name + ")");
     }
-    // Subgroup reductions (subgroupOr, subgroupMax) stand in for shared-memory barriers where a
-    // pass only reduces (shadows.isg.tiles): Vulkan 1.1 devices, lavapipe included, have them.
+    // Subgroup reductions (subgroupOr, subgroupMax, subgroupAdd) stand in for shared-memory
+    // barriers where a pass only reduces (shadows.isg.tiles; the statistics of reflections.isg's
+    // dispatches): Vulkan 1.1 devices, lavapipe included, have them.
     VkPhysicalDeviceSubgroupProperties sg{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_SUBGROUP_PROPERTIES};
     VkPhysicalDeviceProperties2 p2{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_PROPERTIES_2};
     p2.pNext = &sg;

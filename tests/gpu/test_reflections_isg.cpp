@@ -224,15 +224,49 @@ TEST(Reflections, GgxConeHoldsTheEnergyFraction) {
   }
 }
 
+namespace {
+
+// The 2×2 quads holding a glossy pixel: one search each (reflections.isg.search).
+uint64_t glossy_quads(const fx::ReflInputs& in, const fx::ReflSettings& s) {
+  uint64_t quads = 0;
+  for (int y = 0; y < in.h; y += 2)
+    for (int x = 0; x < in.w; x += 2) {
+      bool any = false;
+      for (int k = 0; k < 4; ++k) {
+        const int px = x + (k & 1), py = y + (k >> 1);
+        const size_t i = size_t(py) * in.w + px;
+        any = any || (px < in.w && py < in.h && in.fg[i] != 0.0f && in.weight[i] > 0.0f &&
+                      (in.roughness.empty() ? s.roughness : in.roughness[i]) > REFL_MIN_ROUGHNESS);
+      }
+      quads += any ? 1 : 0;
+    }
+  return quads;
+}
+
+// The rough object of random_scene reflects too. Its depth is noisy, so pixels of a quad lie on
+// different surfaces (eq. 10) and search for themselves (reflections.isg.own).
+void object_reflects(fx::ReflInputs& in) {
+  const size_t n = size_t(in.w) * in.h;
+  for (size_t i = 0; i < n; ++i)
+    if (in.roughness[i] == 1.0f) {
+      for (int c = 0; c < 3; ++c) in.weight[c * n + i] = 0.6f;
+      in.dist[i] = 0.2f + 0.1f * float(i % 7);
+    }
+}
+
+}  // namespace
+
 TEST_F(GpuTest, ReflectionsMatchReference) {
-  for (int variant = 0; variant < 5; ++variant) {
+  for (int variant = 0; variant < 6; ++variant) {
     // Variant 4: radii up to 80 pixels, so the wide searches and the far gather taps read the
     // coarse cells (REFL_COARSE_RADIUS, REFL_COARSE_GATHER) and wide lobes reuse the blocks'
     // gathers, on an image whose last cell row and column hold one pixel (4·24 + 1 by 4·16 + 1:
     // the cell keeps the image's last pixel). Its scene is seed 12's: with seed 11 one search tap
     // lands within 1e-3 pixels of a cell edge (the double reference agrees with the GPU once
     // the tap moves by 1e-3), and the block that search sizes moves 147 values by up to 0.06.
-    const int w = variant == 4 ? 97 : 96, h = variant == 4 ? 65 : 64;
+    // Variant 5: variant 0's settings from Z on 192x128, where more pixels gather for themselves than one row of
+    // reflections.isg.own's dispatch holds (REFL_OWN_ROW · REFL_OWN_LOCAL).
+    const int w = variant == 4 ? 97 : variant == 5 ? 192 : 96, h = variant == 4 ? 65 : variant == 5 ? 128 : 64;
     auto s = settings_for(h, 4.0, 25.0);
     s.method = variant == 3 ? "blur" : "isg";
     s.anisotropic = variant != 1;
@@ -243,17 +277,9 @@ TEST_F(GpuTest, ReflectionsMatchReference) {
     s.max_radius = variant == 4 ? 80 : 24;
     s.sigma = 0.05;
     const bool with_p = variant % 2 == 0;
-    auto in = random_scene(w, h, with_p, variant == 4 ? 12u : 7u + unsigned(variant), s);
+    auto in = random_scene(w, h, with_p, variant == 4 ? 12u : variant == 5 ? 7u : 7u + unsigned(variant), s);
     if (variant == 2) in.roughness.clear();  // the preset roughness everywhere
-    // Variants 0 and 4: the rough object reflects too. Its depth is noisy, so pixels of a quad
-    // lie on different surfaces (eq. 10) and search for themselves (reflections.isg.own).
-    const size_t n = size_t(w) * h;
-    if (variant == 0 || variant == 4)
-      for (size_t i = 0; i < n; ++i)
-        if (in.roughness[i] == 1.0f) {
-          for (int c = 0; c < 3; ++c) in.weight[c * n + i] = 0.6f;
-          in.dist[i] = 0.2f + 0.1f * float(i % 7);
-        }
+    if (variant == 0 || variant >= 4) object_reflects(in);  // pixels that search for themselves
     std::vector<float> ref_tiles;
     fx::ReflTileStats rst;
     auto ref = fx::reflections_reference(in, s, &ref_tiles, &rst);
@@ -268,25 +294,16 @@ TEST_F(GpuTest, ReflectionsMatchReference) {
     EXPECT_EQ(g.stats.glossy_pixels, rst.glossy_pixels) << "variant " << variant;
     EXPECT_NEAR(double(g.stats.searches), double(rst.searches), 0.01 * double(rst.searches) + 1) << "variant " << variant;
     EXPECT_NEAR(double(g.stats.gathers), double(rst.gathers), 0.01 * double(rst.gathers) + 1) << "variant " << variant;
-    // The quads' searches (those holding a glossy pixel); the rest are the pixels' own.
-    uint64_t quads = 0;
-    for (int y = 0; y < h; y += 2)
-      for (int x = 0; x < w; x += 2) {
-        bool any = false;
-        for (int k = 0; k < 4; ++k) {
-          const int px = x + (k & 1), py = y + (k >> 1);
-          const size_t i = size_t(py) * w + px;
-          any = any || (px < w && py < h && in.fg[i] != 0.0f && in.weight[i] > 0.0f &&
-                        (in.roughness.empty() ? s.roughness : in.roughness[i]) > REFL_MIN_ROUGHNESS);
-        }
-        quads += any ? 1 : 0;
-      }
+    const uint64_t quads = glossy_quads(in, s);  // their searches; the rest are the pixels' own
     std::printf("variant %d: %llu searches (%llu quads'), %llu gathers (reference %llu, %llu)\n",
                 variant, (unsigned long long)g.stats.searches, (unsigned long long)quads,
                 (unsigned long long)g.stats.gathers, (unsigned long long)rst.searches,
                 (unsigned long long)rst.gathers);
-    if (variant == 0 || variant == 4) {
+    if (variant == 0 || variant >= 4) {
       EXPECT_GT(g.stats.searches, quads + 50) << "variant " << variant;
+    }
+    if (variant == 5) {
+      EXPECT_GT(g.stats.gathers, uint64_t(REFL_OWN_ROW * REFL_OWN_LOCAL) + 1000);
     }
     // Roughly half the glossy pixels actually change (the check compares something).
     size_t changed = 0;
@@ -308,6 +325,9 @@ TEST_F(GpuTest, ReflectionsWideLobesReuseTheQuadsGathers) {
     s.sigma = 0.05;
     s.anisotropic = variant == 0;
     auto in = random_scene(w, h, variant == 0, 11u + unsigned(variant), s);
+    // Variant 1: pixels that search for themselves, then take the blocks' means in
+    // reflections.isg.own.
+    if (variant == 1) object_reflects(in);
     in.roughness.clear();  // one roughness: lobes of one width, so the footprint test passes
     s.roughness = 0.6;
     fx::ReflTileStats rst;
@@ -320,6 +340,9 @@ TEST_F(GpuTest, ReflectionsWideLobesReuseTheQuadsGathers) {
                 (unsigned long long)rst.gathers, (unsigned long long)rst.searches);
     EXPECT_GT(g.stats.glossy_pixels, size_t(w * h / 4));
     EXPECT_LT(g.stats.gathers, g.stats.glossy_pixels / 2) << "variant " << variant;
+    if (variant == 1) {
+      EXPECT_GT(g.stats.searches, glossy_quads(in, s) + 20);
+    }
     // The statistics count what the reference runs (the quads' searches and the pixels' own, the
     // blocks' wide gathers and the pixels' own: reflections.isg.own's list); a float decision
     // at a threshold may flip a few.

@@ -354,7 +354,7 @@ std::vector<float> sample_table(int grid_search, int grid_gather) {
   }
   return t;
 }
-// The slots of reflections.isg's three dispatches (shaders/reflections_isg.h).
+// The slots of reflections.isg's four dispatches (shaders/reflections_isg.h).
 std::vector<gpu::Slot> isg_slots() {
   return {gpu::Slot::texels, gpu::Slot::texels, gpu::Slot::texels, gpu::Slot::texels,
           gpu::Slot::buffer, gpu::Slot::buffer, gpu::Slot::texels};
@@ -460,29 +460,30 @@ void ReflectionsPass::record_gather(gpu::Sequence& seq, const ReflBuffers& b, ui
                 gpu::Binding::of(b.tiles)},
                pc, nt, 1, label + ".list");
   seq.copy(b.refl, b.glossy, 3 * uint64_t(w) * h * sizeof(float), label + ".copy");
-  // Method isg: the quads' searches, then the blocks' wide gathers, then the pixels; each over
-  // the listed tiles, a lane per quad, block and pixel (shaders/reflections_isg.h).
+  // Method isg: the quads' searches, then the blocks' wide gathers, then the pixels, over the
+  // listed tiles (a lane per quad, block and pixel); then the pixels the pixel dispatch listed, a
+  // lane each (shaders/reflections_isg.h). Method blur: the pixel dispatch alone.
   const std::vector<gpu::Binding> bind = {
       gpu::Binding::texels(b.pack_geo, VK_FORMAT_R32G32B32A32_UINT), gpu::Binding::float4s(b.pack_color),
       gpu::Binding::floats(rb), gpu::Binding::float4s(*samples_), gpu::Binding::of(b.glossy),
       gpu::Binding::of(b.tiles), gpu::Binding::texels(b.tiles, VK_FORMAT_R32G32B32A32_UINT)};
   const uint64_t args = uint64_t(REFL_AT_ARGS(nt)) * 4;
   const uint32_t fl = flags(b.has_position, has_rough);
-  const bool blur = s_.method == "blur";
-  if (!blur) {
+  const bool isg = s_.method == "isg";  // else blur
+  if (isg) {
     const auto names = dispatches(s_, label);
     seq.dispatch_indirect(search_.at({fl}), bind, pc, b.tiles, args, names[0]);
     seq.dispatch_indirect(wide_.at({fl}), bind, pc, b.tiles, args, names[1]);
   }
-  seq.dispatch_indirect(kernel_.at({fl, blur ? REFL_MODE_BLUR : REFL_MODE_ISG}), bind, pc, b.tiles,
+  seq.dispatch_indirect(kernel_.at({fl, isg ? REFL_MODE_ISG : REFL_MODE_BLUR}), bind, pc, b.tiles,
                         args, label);
-  if (!blur)
+  if (isg)
     seq.dispatch_indirect(own_.at({fl}), bind, pc, b.tiles, uint64_t(REFL_AT_OWN_ARGS(nt)) * 4,
                           dispatches(s_, label)[2]);
 }
 
 std::vector<std::string> ReflectionsPass::dispatches(const ReflSettings& s, const std::string& label) {
-  if (s.method == "blur") return {};
+  if (s.method != "isg") return {};
   return {label + ".search", label + ".wide", label + ".own"};
 }
 

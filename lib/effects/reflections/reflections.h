@@ -1,8 +1,9 @@
 // Glossy reflections (paper §3.2, eq. 4, 10-14): refl.glossy from the renderer's sharp
 // reflection refl, its distance refl.dist, P (or Z and the camera), N and roughness.
-//   isg:  one pass reflections.isg: parameter search over refl.dist within R_p (eq. 4, 10-12),
-//         then the gather over refl within R_s (eq. 13) / R_g (eq. 14), the GGX lobe projected
-//         into screen space as spatial weight, elongated along the plane of incidence.
+//   isg:  parameter search over refl.dist within R_p (eq. 4, 10-12), then the gather over refl
+//         within R_s (eq. 13) / R_g (eq. 14), the GGX lobe projected into screen space as spatial
+//         weight, elongated along the plane of incidence; four dispatches (reflections.isg.search,
+//         .wide, reflections.isg, .own: shaders/reflections_isg.h).
 //   blur: the naive alternative, a constant-width disk blur of refl (no contact hardening).
 // The composite term refl.weight·(refl.glossy − refl) is the shared composite_term pass.
 #pragma once
@@ -28,9 +29,9 @@ struct ReflInputs {
 
 struct ReflTileStats {
   double skipped_fraction = 0;  // tiles with nothing glossy
-  uint64_t glossy_pixels = 0;   // pixels that gathered
+  uint64_t glossy_pixels = 0;   // glossy pixels (in the tiles that were not cheap)
   uint64_t searches = 0;        // parameter searches run (one per quad, more at edges)
-  uint64_t gathers = 0;         // gathers run (one per quad for wide lobes, more at edges)
+  uint64_t gathers = 0;         // gathers run (one per 4×4 block for wide lobes, more at edges)
 };
 
 // C++ double-precision reference of pass reflections.isg; returns refl.glossy (3 planes) and,

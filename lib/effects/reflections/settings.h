@@ -41,10 +41,11 @@ ReflSettings refl_settings(const io::Camera& cam, double scene_radius, const par
 // is P(θ_h ≤ t) = tan²t / (α² + tan²t), so tan θ_h = α·sqrt(E / (1 − E)). θ_max = 2·θ_h.
 double ggx_cone_tan(double alpha, double energy);
 
-// 16x16 tiles (REFL_TILE) of a w x h image (refl.tiles holds two words per tile).
+// 16x16 tiles (REFL_TILE) of a w x h image (refl.tiles: statistics and a list of them, then method
+// isg's records, shaders/reflections_isg_io.h).
 uint32_t refl_tiles(uint32_t w, uint32_t h);
 // The words of refl.tiles (shaders/reflections_isg_io.h); `records`: with the quads' and blocks'
-// records method isg's three dispatches pass on (method blur has none).
+// records method isg's four dispatches pass on (method blur has none).
 uint32_t refl_tiles_words(uint32_t w, uint32_t h, bool records);
 // The 16-byte texels of refl.pack.geo and refl.pack.color: the image's, then its REFL_COARSE²
 // cells' (shaders/reflections_isg_io.h).
