@@ -235,7 +235,10 @@ uint64_t glossy_quads(const fx::ReflInputs& in, const fx::ReflSettings& s) {
       for (int k = 0; k < 4; ++k) {
         const int px = x + (k & 1), py = y + (k >> 1);
         const size_t i = size_t(py) * in.w + px;
-        any = any || (px < in.w && py < in.h && in.fg[i] != 0.0f && in.weight[i] > 0.0f &&
+        if (px >= in.w || py >= in.h) continue;
+        const size_t n = size_t(in.w) * in.h;  // as the reference's glossy(): weight in any channel
+        const float wmax = std::max({in.weight[i], in.weight[n + i], in.weight[2 * n + i]});
+        any = any || (in.fg[i] != 0.0f && wmax > 0.0f &&
                       (in.roughness.empty() ? s.roughness : in.roughness[i]) > REFL_MIN_ROUGHNESS);
       }
       quads += any ? 1 : 0;

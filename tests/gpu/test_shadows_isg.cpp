@@ -159,32 +159,30 @@ TEST_F(ShadowsIsg, GpuMatchesReference) {
     // A background patch and a sphere-like light to exercise both cross-sections.
     for (int y = 10; y < 20; ++y)
       for (int x = 40; x < 56; ++x) in.fg[size_t(y) * in.w + x] = 0.0f;
-    {
-      auto s = pl.settings(25, 49);
-      s.oriented = !sphere;
-      s.rotate = c.rotate;
-      s.search_reach = c.search_reach;
-      s.tile_skip = c.tile_skip;
-      fx::ShadowIsgStats st_ref, st_gpu;
-      auto ref = fx::shadows_isg_reference(in, s, &st_ref);
-      auto got = run_gpu(in, s, &st_gpu);
-      const double diff = max_abs_diff(ref, got);
-      std::printf("GPU vs reference (%dx%d, P %d, sphere %d, rotate %d, reach %d, tile skip %d): "
-                  "max abs diff %.2e\n", c.w, c.h, int(with_p), int(sphere), int(c.rotate),
-                  int(c.search_reach), int(c.tile_skip), diff);
-      EXPECT_LT(diff, 1e-3) << c.w << "x" << c.h << " position " << with_p << " sphere "
-                            << sphere << " rotate " << c.rotate << " reach " << c.search_reach
-                            << " tile skip " << c.tile_skip;
-      EXPECT_EQ(st_ref.full_pixels, st_gpu.full_pixels);
-      EXPECT_EQ(st_ref.clamped_pixels, st_gpu.clamped_pixels);
-      EXPECT_NEAR(double(st_ref.searches), double(st_gpu.searches), 0.01 * double(st_ref.searches));
-      EXPECT_NEAR(double(st_ref.gathers), double(st_gpu.gathers), 0.01 * double(st_ref.gathers));
-      EXPECT_NEAR(st_ref.skipped_fraction, st_gpu.skipped_fraction, 1e-9);
-      // shadows.isg.list dispatched every tile that did not take the cheap path.
-      EXPECT_GE(st_gpu.dispatched_fraction, 1.0 - st_gpu.skipped_fraction - 1e-9);
-      EXPECT_LE(st_gpu.dispatched_fraction, 1.0);
-      EXPECT_FLOAT_EQ(float(st_ref.d_max), float(st_gpu.d_max));
-    }
+    auto s = pl.settings(25, 49);
+    s.oriented = !sphere;
+    s.rotate = c.rotate;
+    s.search_reach = c.search_reach;
+    s.tile_skip = c.tile_skip;
+    fx::ShadowIsgStats st_ref, st_gpu;
+    auto ref = fx::shadows_isg_reference(in, s, &st_ref);
+    auto got = run_gpu(in, s, &st_gpu);
+    const double diff = max_abs_diff(ref, got);
+    std::printf("GPU vs reference (%dx%d, P %d, sphere %d, rotate %d, reach %d, tile skip %d): "
+                "max abs diff %.2e\n", c.w, c.h, int(with_p), int(sphere), int(c.rotate),
+                int(c.search_reach), int(c.tile_skip), diff);
+    EXPECT_LT(diff, 1e-3) << c.w << "x" << c.h << " position " << with_p << " sphere "
+                          << sphere << " rotate " << c.rotate << " reach " << c.search_reach
+                          << " tile skip " << c.tile_skip;
+    EXPECT_EQ(st_ref.full_pixels, st_gpu.full_pixels);
+    EXPECT_EQ(st_ref.clamped_pixels, st_gpu.clamped_pixels);
+    EXPECT_NEAR(double(st_ref.searches), double(st_gpu.searches), 0.01 * double(st_ref.searches));
+    EXPECT_NEAR(double(st_ref.gathers), double(st_gpu.gathers), 0.01 * double(st_ref.gathers));
+    EXPECT_NEAR(st_ref.skipped_fraction, st_gpu.skipped_fraction, 1e-9);
+    // shadows.isg.list dispatched every tile that did not take the cheap path.
+    EXPECT_GE(st_gpu.dispatched_fraction, 1.0 - st_gpu.skipped_fraction - 1e-9);
+    EXPECT_LE(st_gpu.dispatched_fraction, 1.0);
+    EXPECT_FLOAT_EQ(float(st_ref.d_max), float(st_gpu.d_max));
   }
 }
 

@@ -469,17 +469,16 @@ void ReflectionsPass::record_gather(gpu::Sequence& seq, const ReflBuffers& b, ui
       gpu::Binding::of(b.tiles), gpu::Binding::texels(b.tiles, VK_FORMAT_R32G32B32A32_UINT)};
   const uint64_t args = uint64_t(REFL_AT_ARGS(nt)) * 4;
   const uint32_t fl = flags(b.has_position, has_rough);
-  const bool isg = s_.method == "isg";  // else blur
+  const auto names = dispatches(s_, label);  // empty for method blur
+  const bool isg = !names.empty();
   if (isg) {
-    const auto names = dispatches(s_, label);
     seq.dispatch_indirect(search_.at({fl}), bind, pc, b.tiles, args, names[0]);
     seq.dispatch_indirect(wide_.at({fl}), bind, pc, b.tiles, args, names[1]);
   }
   seq.dispatch_indirect(kernel_.at({fl, isg ? REFL_MODE_ISG : REFL_MODE_BLUR}), bind, pc, b.tiles,
                         args, label);
   if (isg)
-    seq.dispatch_indirect(own_.at({fl}), bind, pc, b.tiles, uint64_t(REFL_AT_OWN_ARGS(nt)) * 4,
-                          dispatches(s_, label)[2]);
+    seq.dispatch_indirect(own_.at({fl}), bind, pc, b.tiles, uint64_t(REFL_AT_OWN_ARGS(nt)) * 4, names[2]);
 }
 
 std::vector<std::string> ReflectionsPass::dispatches(const ReflSettings& s, const std::string& label) {
