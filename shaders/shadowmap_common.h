@@ -166,12 +166,15 @@ float sm_fetch(vec2 c) {
 // ray-traced L.shadow places the edge exactly. Where the penumbra's radius rf (texels) is within
 // r0 = shadows.input_edges texels the input's hard shadow stands; beyond, it weighs (r0/rf)², the
 // filtered visibility the rest. rf = 0 where the map's verdict stood alone (a lit or umbra region,
-// no blocker found): there too the input's L.shadow stands.
-float sm_input_edges(float s, float hard_in, float rf) {
+// no blocker found): there too the input's L.shadow stands. r_min: the method's own floor on r0,
+// the narrowest penumbra it can place (cssm's, shadowmap_cssm.comp; 0 for the others).
+float sm_input_edges_at(float s, float hard_in, float rf, float r_min) {
   float r0 = p.input_edges;
   if (r0 <= 0.0) return s;
+  r0 = max(r0, r_min);
   float w = rf <= r0 ? 1.0 : (r0 / rf) * (r0 / rf);
   return clamp(mix(s, hard_in, w), 0.0, 1.0);
 }
+float sm_input_edges(float s, float hard_in, float rf) { return sm_input_edges_at(s, hard_in, rf, 0.0); }
 
 #endif

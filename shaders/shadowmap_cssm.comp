@@ -216,5 +216,10 @@ void main() {
   if (rf > p.max_radius) { rf = p.max_radius; atomicAdd(stats[SHADOWMAP_STAT_CLAMPED], 1u); }
   float v = cssm_suppress(cssm_filtered(q, g, texel_world, max(0.886226925 * rf, 0.5), d, false));
   float pw = 1.0 + c.sharpen_a * exp(-c.sharpen_b * (d - z_avg));  // eq. 5.9
-  soft[i] = sm_input_edges(pow(v, pw), hard[i], rf);
+  // A blocker nearer the receiver than x0 / s_z of the depth range shadows it by less than half
+  // (cssm.cpp): the expansion cannot place the penumbrae such blockers cast, so the input's edge
+  // stands up to the radius of one at that depth (issue 19).
+  float zh = c.zmin + max(d - c.x0 / c.s_z, 0.0) * c.zrange;
+  float r_half = min(k * max(1.0 / zh - 1.0 / q.z, 0.0), p.max_radius);
+  soft[i] = sm_input_edges_at(pow(v, pw), hard[i], rf, r_half);
 }

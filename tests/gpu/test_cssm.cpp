@@ -100,6 +100,40 @@ TEST_F(CssmGpu, ParallelPlanesMatchesClosedForm) {
   }
 }
 
+// A blocker nearer its receiver than x0 / s_z of the map's depth range (here 0.3 m of 36 m: a
+// backdrop patch in a corner of the map, out of every kernel's reach, stretches the range) shadows
+// it by under half in the expansion: its penumbra (3.9 pixels, 2.6 map texels a side) is wider
+// than shadows.input_edges' 2 texels but narrower than the 15 texels a blocker x0 / s_z in front
+// casts, so the input's edge stands there (Shaded::r_min, issue 19). The GPU follows the
+// reference, and the result is no worse than the input's hard edge. Measured against the closed
+// form: 0.0733, the hard input's own; the expansion alone 0.1987; with input_edges' 2 texels as
+// the only floor (before r_min) 0.1032, worse than doing nothing.
+TEST_F(CssmGpu, BlockersTheExpansionCannotResolveKeepTheInputsEdge) {
+  Planes pl;
+  pl.d_o = 3.7;
+  pl.R = 1.0;
+  auto map = pl.shadowmap();
+  for (int j = 0; j < 4; ++j)
+    for (int i = 0; i < 4; ++i) map.z[size_t(j) * size_t(pl.map) + size_t(i)] = 40.0f;
+  map = fx::make_shadowmap(pl.map, pl.map, std::move(map.z));
+  const auto in = pl.inputs();
+  const auto s = cssm_settings(pl, 8, "sat");
+  const auto want = fx::cssm_reference(in, map, s, nullptr);
+  const auto got = run_gpu(ctx(), in, map, s, nullptr);
+  double md;
+  const size_t bad = mismatches(got, want, &md);
+  const double e = planes_rmse(pl, in, got), eh = planes_rmse(pl, in, in.hard);
+  auto s0 = s;
+  s0.input_edges = 0.0;  // the expansion alone
+  const double e0 = planes_rmse(pl, in, fx::cssm_reference(in, map, s0, nullptr));
+  std::printf("near blocker, cssm M=8 sat: RMSE %.4f against the closed form (the expansion alone "
+              "%.4f, the hard input %.4f); GPU and reference differ at %zu pixels (max %.4f)\n",
+              e, e0, eh, bad, md);
+  EXPECT_LE(bad, want.size() / 200);
+  EXPECT_LE(e, eh + 1e-4);
+  EXPECT_LT(e, 0.5 * e0);
+}
+
 // A map larger than shadows.cssm_max_basis: the basis averaged in 8x8 blocks (204 = 25.5 blocks:
 // the last block covers half of one), prefiltered and looked up in block units on both sides.
 // The GPU follows the double reference, and on the parallel planes the error stays near the

@@ -158,21 +158,24 @@ struct Geom {
   double fetch(double cx, double cy) const {
     return map.z[size_t(cy) * size_t(map.width) + size_t(cx)];
   }
-  // shadows.input_edges (sm_input_edges): the input's L.shadow where the penumbra's radius rf is
-  // within r0 texels, weighing (r0/rf)² beyond.
-  double input_edges(double v, double hard_in, double rf) const {
-    const double r0 = double(float(s.input_edges));
+  // shadows.input_edges (sm_input_edges_at): the input's L.shadow where the penumbra's radius rf
+  // is within r0 texels, weighing (r0/rf)² beyond; r0 at least the method's r_min.
+  double input_edges(double v, double hard_in, double rf, double r_min = 0.0) const {
+    double r0 = double(float(s.input_edges));
     if (r0 <= 0.0) return v;
+    r0 = std::max(r0, r_min);
     const double w = rf <= r0 ? 1.0 : (r0 / rf) * (r0 / rf);
     return std::clamp(v + w * (hard_in - v), 0.0, 1.0);
   }
 };
 
 // One receiver shaded by a method: its filtered visibility and the filter's radius in texels
-// (0 where the map's verdict stood alone: a lit or umbra region, or no blocker found).
+// (0 where the map's verdict stood alone: a lit or umbra region, or no blocker found); r_min,
+// the narrowest penumbra the method can place (texels, input_edges' floor; cssm's, else 0).
 struct Shaded {
   double s;
   double rf;
+  double r_min = 0.0;
 };
 
 // Every reference's loop over the receivers, as every shadow-map pass does it: background and
@@ -195,7 +198,7 @@ std::vector<float> shade_receivers(const Geom& G, ShadowmapStats& st, Shade&& sh
       const Plane g = G.receiver_plane(px, py, q, P, back);
       if (back) { ++st.skipped; continue; }
       const Shaded r = shade(px, py, q, g);
-      out[i] = float(G.input_edges(r.s, double(in.hard[i]), r.rf));
+      out[i] = float(G.input_edges(r.s, double(in.hard[i]), r.rf, r.r_min));
     }
   return out;
 }
