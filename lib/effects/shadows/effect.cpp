@@ -75,7 +75,10 @@ class Shadows final : public Effect {
       params::def(shadow_keys::input_edges, "2", 0, 1e3,
        "pcss, vssm, cssm: where the penumbra's radius is within this many shadow-map texels the "
        "input's ray-traced L.shadow stands (a map texel places an edge only to within itself); "
-       "beyond, it weighs (this / radius)^2 against the filtered map; 0: the map alone", "texels"),
+       "beyond, it weighs (this / radius)^2 against the filtered map; for cssm at least the radius "
+       "a blocker casts from x0/s_z of the map's depth range in front of the receiver, where its "
+       "expansion's step crosses 1/2 (nearer blockers it shadows by less than half); 0: the map "
+       "alone", "texels"),
       params::def(shadow_keys::bias, "2", 0, 100,
        "shadow-map methods: constant depth bias, in shadow-map texel footprints at the "
        "receiver, on top of the receiver-plane depth (fitted from the screen neighbours)",
