@@ -74,6 +74,18 @@ float across(vec3 dP, vec3 wl) {
   return length(dP - (dot(dP, n) / c) * wl);
 }
 
+// The distance along the light's direction that across() takes off dP: an occluder at distance
+// d from a point dP away from p_0 lies d + along(dP, wl) from p_0, in the depth the
+// cross-section is measured at (sphere lights: along the ray; disk and rect lights: the plane
+// parallel to the light's, so that an occluder parallel to the light keeps its distance).
+float along(vec3 dP, vec3 wl) {
+  if ((FLAGS & SHADOWS_ISG_ORIENTED) == 0u) return dot(dP, wl);
+  vec3 n = vec3(pc.light_nx, pc.light_ny, pc.light_nz);
+  float c = dot(wl, n);
+  c = c < 0.0 ? min(c, -SHADOWS_ISG_MIN_COS) : max(c, SHADOWS_ISG_MIN_COS);
+  return dot(dP, n) / c;
+}
+
 // Eq. 6-7 without inShadow: a gaussian of the world distance l (scene_radius units), from
 // l² = |dP|² (no square root).
 float range_l2(float l2) { return exp(-l2 * (pc.inv_scene_radius * pc.inv_scene_radius * pc.inv_sigma)); }
@@ -131,9 +143,10 @@ mat2 lattice(uvec2 p, Recv R, float raw) {
   return E * mat2(ca, sa, -sa, ca);
 }
 
-// Parameter search (eq. 4, 6, 7) at p over the footprint of Rp pixels (unclamped, along R.dir): occluder distances weighted by
-// r = gaussian · inShadow, the centre tap included. The mean occluder distance, or -1 where no
-// occluder is within reach (the hard shadow stands).
+// Parameter search (eq. 4, 6, 7) at p over the footprint of Rp pixels (unclamped, along R.dir):
+// occluder distances weighted by r = gaussian · inShadow, the centre tap included, each measured
+// from p_0 (the tap's L.occluder plus the tap's offset along the light's direction). The mean
+// occluder distance, or -1 where no occluder is within reach (the hard shadow stands).
 // The sums of lattice samples part, part + parts, ... (the centre tap in part 0): a quad's
 // search is split over its four lanes.
 vec2 search_sums(Recv R, uvec2 p, uint i, float Rp, uint part, uint parts) {
@@ -157,15 +170,19 @@ vec2 search_sums(Recv R, uvec2 p, uint i, float Rp, uint part, uint parts) {
       int t = xx.y * int(pc.width) + xx.x;
       vec4 Tt = texelFetch(pack, int(t));
       if (!foreground(Tt) || !(Tt.w < 1.0)) continue;
+      vec3 dP = Tt.xyz - R.P0;
       float ot = texelFetch(occluder, int(t)).r;
       if (!(ot > 0.0)) continue;
-      vec3 dP = Tt.xyz - R.P0;
+      // The tap's occluder seen from p_0: its distance from p_0, not from the tap (they differ
+      // by along(dP), large along a receiver under a grazing sphere light).
+      ot += along(dP, R.wl);
+      if (!(ot > 0.0)) continue;  // behind p_0
       float bw = ((j & 1) != 0 ? f.x : 1.0 - f.x) * ((j >> 1) != 0 ? f.y : 1.0 - f.y);
       float r = range_l2(dot(dP, dP)) * (1.0 - Tt.w) * bw;
       float l = across(dP, R.wl);
       if ((FLAGS & SHADOWS_ISG_SEARCH_REACH) != 0u) {
-        // PCSS's blocker test in image space: the occluder's own penumbra reaches p_0.
-        float Rt = penumbra(ot, length(light() - Tt.xyz));
+        // PCSS's blocker test in image space: the occluder lies in p_0's cone to the light.
+        float Rt = penumbra(ot, R.D);
         r *= clamp((SHADOWS_ISG_REACH * Rt + R.pix - l) * R.inv_pix, 0.0, 1.0);
       }
       sw += r;

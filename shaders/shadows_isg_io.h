@@ -38,9 +38,19 @@ ISG_IO_BEGIN
 #define SHADOWS_ISG_REUSE_COVER 0.5
 // D − d is kept above this fraction of D in eq. 8 (occluders next to the light).
 #define SHADOWS_ISG_MIN_GAP 0.05
-// The search's blocker test counts an occluded sample whose penumbra, this many times its
-// radius R_s (inner plus outer half), reaches p_0.
-#define SHADOWS_ISG_REACH 2.0
+// The search's blocker test counts an occluded sample whose occluder, at distance t from p_0,
+// lies within this many times R_s(t) (eq. 8) of p_0 across the light's direction (1: p_0's cone
+// to the light, exactly; the rest is slack for the lattice's spacing). Measured with t from p_0,
+// RMSE / doing nothing's on the Cycles cases (shared contact, rowdepth; own far1e5, far1e6,
+// grazing, lowlight) and the RMSE of isg-synth contact and of the 80° grazing view
+// (tests/gpu/test_shadows_isg.cpp):
+//   1.25: 0.329 0.220 0.351 0.620 0.366 0.496;
+//   1.5:  0.345 0.206 0.365 0.605 0.351 0.501; synth 0.02377, grazing view 0.01040;
+//   1.75: 0.351 0.202 0.372 0.593 0.347 0.509; synth 0.02271, grazing view 0.00954;
+//   2:    0.353 0.196 0.375 0.590 0.345 0.524; synth 0.02242, grazing view 0.00953.
+// With t from the tap (its own L.occluder, as before) and 2: 0.353 0.201 0.391 0.620 0.377 0.519;
+// synth 0.02269, grazing view 0.00953. 1.75 is the one no case loses by (rowdepth +0.5 %).
+#define SHADOWS_ISG_REACH 1.75
 // Disk and rect lights: the cosine between the light's direction and its plane's normal is kept
 // above this in the cross-section distance (across()).
 #define SHADOWS_ISG_MIN_COS 0.2
@@ -50,12 +60,14 @@ ISG_IO_BEGIN
 // while the occluder distance changes little across the footprint, and on a receiver under grazing
 // light it changes as fast as the footprint grows. Measured on the own Cycles cases (RMSE / doing
 // nothing's): a cap of 5 gave grazing 0.42, lowlight 0.515, shared rowdepth 0.209; 2 gave 0.38,
-// 0.519, 0.201; no stretch 0.35, 0.551, 0.187.
+// 0.519, 0.201; no stretch 0.35, 0.551, 0.187. With the search's occluder distances taken from
+// p_0 (SHADOWS_ISG_REACH 1.5), 4 gave grazing 0.360, lowlight 0.497, rowdepth 0.218 against 2's
+// 0.351, 0.501, 0.206.
 #define SHADOWS_ISG_MAX_STRETCH 2.0
 // Settings of shadows.isg: its specialization constant 0 (SHADOWS_ISG_HAS_POSITION alone that of
 // shadows.isg.tiles; SHADOWS_ISG_TILE_SKIP the list's push constant).
 #define SHADOWS_ISG_ROTATE 1u       // rotate the sample grid per pixel (pixel hash)
-#define SHADOWS_ISG_SEARCH_REACH 2u // the search counts only occluders whose penumbra reaches p_0
+#define SHADOWS_ISG_SEARCH_REACH 2u // the search counts only occluders in p_0's cone to the light
 #define SHADOWS_ISG_TILE_SKIP 4u    // tiles with no shadow boundary within reach take the cheap path
 #define SHADOWS_ISG_ORIENTED 8u     // disk and rect lights: the penumbra's cross-section lies in
                                     // the light's plane (light_n), not across the ray

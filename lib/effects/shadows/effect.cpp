@@ -57,8 +57,8 @@ class Shadows final : public Effect {
       params::def(shadow_keys::rotate, "true",
        "rotate the sample grid per pixel (a hash of the pixel, the same every frame)"),
       params::def(shadow_keys::search_reach, "true",
-       "the parameter search counts only occluders whose own penumbra reaches the pixel "
-       "(PCSS's blocker test, in image space)"),
+       "the parameter search counts only occluders within the pixel's cone to the light, "
+       "each at its distance from the pixel (PCSS's blocker test, in image space)"),
       params::def(shadow_keys::tile_skip, "true",
        "16x16 tiles with no shadow boundary within the search radius keep L.shadow (fully lit "
        "or umbra)"),

@@ -105,6 +105,16 @@ struct Ctx {
     const double t = dot(d, s.light_normal) / c;
     return len3({d[0] - t * wl[0], d[1] - t * wl[1], d[2] - t * wl[2]});
   }
+  // The distance along wl that across() takes off d: an occluder at distance t from a point d
+  // away from p_0 lies t + along(d, wl) from p_0 (sphere lights: along the ray; disk and rect
+  // lights: in the plane parallel to the light's).
+  double along(V3 d, V3 wl) const {
+    auto dot = [](V3 a, V3 b) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; };
+    if (!s.oriented) return dot(d, wl);
+    double c = dot(wl, s.light_normal);
+    c = c < 0.0 ? std::min(c, -SHADOWS_ISG_MIN_COS) : std::max(c, SHADOWS_ISG_MIN_COS);
+    return dot(d, s.light_normal) / c;
+  }
   // Bilinear taps of q (pixel centres at +0.5); taps outside the image get weight 0.
   void taps(V2 q, size_t t[4], double bw[4]) const {
     double x = q[0] - 0.5, y = q[1] - 0.5;
@@ -218,8 +228,8 @@ std::vector<float> shadows_isg_reference(const ShadowInputs& in, const ShadowSet
       };
       // Eq. 5: R_p covers the widest penumbra the occluders around can cast (unclamped).
       auto search_radius = [&](const Recv& R) { return d_loc > 0.0f ? c.penumbra(d_loc, R.D) / R.pix : 0.0; };
-      // Parameter search (eq. 4, 6, 7), the centre tap included: the mean occluder distance, or
-      // -1 where no occluder is within reach.
+      // Parameter search (eq. 4, 6, 7), the centre tap included: the mean occluder distance from
+      // p_0, or -1 where no occluder is within reach.
       auto search = [&](int x, int y, const Recv& R, double Rp) {
         const size_t i = size_t(y) * in.w + x;
         const double s0 = in.shadow[i], o0 = in.occluder[i];
@@ -237,16 +247,19 @@ std::vector<float> shadows_isg_reference(const ShadowInputs& in, const ShadowSet
             if (bw[j] == 0.0 || !c.fg(t[j])) continue;
             const double sj = in.shadow[t[j]], oj = in.occluder[t[j]];
             if (!(sj < 1.0 && oj > 0.0)) continue;
-            const V3 Pt = c.position(t[j]);
-            double r = c.range_l(len3(sub(Pt, R.P0))) * (1.0 - sj) * bw[j];
-            const double l = c.across(sub(Pt, R.P0), R.wl);
+            const V3 dP = sub(c.position(t[j]), R.P0);
+            // The tap's occluder seen from p_0: its distance from p_0, not from the tap.
+            const double tj = oj + c.along(dP, R.wl);
+            if (!(tj > 0.0)) continue;  // behind p_0
+            double r = c.range_l(len3(dP)) * (1.0 - sj) * bw[j];
+            const double l = c.across(dP, R.wl);
             if (s.search_reach) {
-              // PCSS's blocker test in image space: the occluder's own penumbra reaches p_0.
-              const double Rt = c.penumbra(oj, len3(sub(s.light, Pt)));
+              // PCSS's blocker test in image space: the occluder lies in p_0's cone to the light.
+              const double Rt = c.penumbra(tj, R.D);
               r *= std::clamp((SHADOWS_ISG_REACH * Rt + R.pix - l) / R.pix, 0.0, 1.0);
             }
             sw += r;
-            swd += r * oj;
+            swd += r * tj;
           }
         }
         return sw > 0.0 ? swd / sw : -1.0;

@@ -23,7 +23,7 @@ struct ShadowSettings {
   double scene_radius = 1.0;
   double max_radius = 64;     // search and gather radius clamp, pixels (clamps are counted)
   bool rotate = true;         // per-pixel rotation of the sample grid (pixel hash)
-  bool search_reach = true;   // the search counts only occluders whose penumbra reaches p_0
+  bool search_reach = true;   // the search counts only occluders in p_0's cone to the light
   bool tile_skip = true;      // tiles with no shadow boundary within reach copy L.shadow
   // The light: centre and L, the radius of eq. 5 and 8 (see light_size()).
   std::array<double, 3> light{0, 0, 0};
