@@ -74,7 +74,7 @@ mat2 pixel_rotation(uvec2 p) {  // the same for the REFL_ROTATION_BLOCK² pixels
 struct Lobe {
   vec2 p0;  // frame coordinates of the pixel centre
   vec3 P0, N0;
-  float e, cos_i, alpha, theta_max, R_full, R_p;
+  float e, cos_i, alpha, tan_max, R_full, R_p;  // tan_max: tan θ_max
   mat2 F;  // footprint axes with the pixel's rotation folded in: offset = F · lattice point
 };
 
@@ -88,9 +88,12 @@ Lobe lobe_at(uvec2 p, uint i) {
   vec3 V = -L.P0 / L.e;
   L.cos_i = clamp(dot(L.N0, V), REFL_MIN_COS, 1.0);
   L.alpha = roughness_at(i) * roughness_at(i);
-  // The cone holding the fraction E of the lobe: tan θ_h = α·sqrt(E/(1−E)), θ_max = 2·θ_h.
-  L.theta_max = min(2.0 * atan(L.alpha * pc.tan_h_factor), REFL_MAX_THETA);
-  L.R_full = pc.f_px * tan(L.theta_max);  // eq. 13 as E → ∞, in pixels
+  // The cone holding the fraction E of the lobe: tan θ_h = α·sqrt(E/(1−E)), θ_max = 2·θ_h up
+  // to REFL_MAX_THETA, kept as its tangent: tan 2θ_h = 2·tan θ_h / (1 − tan² θ_h), θ_h clamped to
+  // REFL_MAX_THETA / 2 first (the tangent is monotonic there; no atan/tan per pixel).
+  float th = min(L.alpha * pc.tan_h_factor, REFL_TAN_HALF_MAX_THETA);
+  L.tan_max = 2.0 * th / (1.0 - th * th);
+  L.R_full = pc.f_px * L.tan_max;  // eq. 13 as E → ∞, in pixels
   L.R_p = min(L.R_full, pc.max_radius);
   // Footprint axes: along the screen image of the plane of incidence the lobe keeps its width;
   // across it the reflected lobe narrows by cos θ_incident (eq. 14 on that axis only).
@@ -134,16 +137,19 @@ float search(Lobe L, uint i) {
 }
 
 // The gather's footprint (eq. 13: tan α = E·tan θ / (e + E), a reflected deviation θ lands
-// k·tan θ pixels away): k = t̄·f in pixels, the cone's half-angle th_max and its radius R_s. A
-// footprint over max_radius truncates the cone rather than squeezing the lobe.
+// k·tan θ pixels away): k = t̄·f in pixels, the tangent of the cone's half-angle th_max and its
+// radius R_s. A footprint over max_radius truncates the cone rather than squeezing the lobe:
+// 2·th_max = min(θ_max, atan(max_radius / k)), so tan 2·th_max = min(tan θ_max, max_radius / k),
+// and tan th_max is the half-angle tangent T / (1 + sqrt(1 + T²)) (no atan/tan per pixel).
 struct Foot {
-  float k_px, th_max, R_s;
+  float k_px, tan_th, R_s;
 };
 Foot footprint(Lobe L, float t_bar) {
   Foot F;
   F.k_px = t_bar * pc.f_px;
-  F.th_max = 0.5 * min(L.theta_max, atan(pc.max_radius / max(F.k_px, 1e-6)));
-  F.R_s = F.k_px * tan(2.0 * F.th_max);
+  float T = min(L.tan_max, pc.max_radius / max(F.k_px, 1e-6));
+  F.tan_th = T / (1.0 + sqrt(1.0 + T * T));
+  F.R_s = F.k_px * T;
   return F;
 }
 
@@ -162,7 +168,7 @@ float albedo_of(Lobe L) {
 // 1/cos θ_h = sqrt(1+τ²) (θ_h ≤ 0.65, so τ < 1).
 vec3 gather_mean(Lobe L, uint i, Foot F) {
   float alpha = L.alpha;
-  float tm = tan(F.th_max);
+  float tm = F.tan_th;
   float xi_max = tm * tm / (alpha * alpha + tm * tm);
   vec3 s = texelFetch(pack_color, int(i)).rgb;
   float ws = 1.0;

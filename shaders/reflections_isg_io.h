@@ -30,6 +30,8 @@ ISG_IO_BEGIN
 #define REFL_MIN_ROUGHNESS 1e-4
 // Largest reflected-cone angle θ_max (radians): GGX's tail makes 2·θ_h reach 180° at alpha 1.
 #define REFL_MAX_THETA 1.3
+// Its half-angle tangent, tan(REFL_MAX_THETA / 2) (the shader clamps tan θ_h to it).
+#define REFL_TAN_HALF_MAX_THETA 0.76020440
 // cos θ_incident is clamped here (eq. 14 at grazing angles).
 #define REFL_MIN_COS 0.05
 // The parameter search runs once per 2×2 quad (its first glossy pixel); a pixel whose range

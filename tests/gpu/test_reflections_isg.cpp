@@ -259,6 +259,14 @@ void object_reflects(fx::ReflInputs& in) {
 
 }  // namespace
 
+// The shaders keep the cone as tangents (tan 2θ_h = 2τ / (1 − τ²), τ clamped to the tangent of
+// half of REFL_MAX_THETA): the constant they clamp at, against the angle the reference clamps.
+TEST(Reflections, ConeClampTangentMatchesTheAngle) {
+  EXPECT_NEAR(REFL_TAN_HALF_MAX_THETA, std::tan(0.5 * REFL_MAX_THETA), 1e-7);
+  const double t = REFL_TAN_HALF_MAX_THETA;
+  EXPECT_NEAR(2.0 * t / (1.0 - t * t), std::tan(REFL_MAX_THETA), 1e-6);
+}
+
 TEST_F(GpuTest, ReflectionsMatchReference) {
   for (int variant = 0; variant < 6; ++variant) {
     // Variant 4: radii up to 80 pixels, so the wide searches and the far gather taps read the

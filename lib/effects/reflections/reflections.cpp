@@ -136,6 +136,7 @@ struct Ctx {
     L.cos_i = std::clamp(dot3(L.N0, V) / L.e, REFL_MIN_COS, 1.0);
     L.alpha = rough(i) * rough(i);
     L.theta_max = std::min(2.0 * std::atan(ggx_cone_tan(L.alpha, s.energy)), REFL_MAX_THETA);
+    // The shader keeps tan θ_max instead, from tan θ_h algebraically (the same quantity).
     L.R_full = s.f_px * std::tan(L.theta_max);  // eq. 13 as E → ∞
     L.R_p = std::min(L.R_full, s.max_radius);
     L.d_maj = {1, 0};
