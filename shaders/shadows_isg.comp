@@ -60,30 +60,26 @@ vec3 axis_diff(uvec2 p, vec3 P0, uvec2 e) {
   return ha ? g : f;
 }
 
-// The distance from p_0 in the penumbra's cross-section: dP projected along the light direction
-// wl onto the plane across the ray (sphere lights: the silhouette faces every receiver) or onto
-// the light's own plane (disk and rect lights).
-float across(vec3 dP, vec3 wl) {
-  if ((FLAGS & SHADOWS_ISG_ORIENTED) == 0u) {
-    float a = dot(dP, wl);
-    return sqrt(max(dot(dP, dP) - a * a, 0.0));  // |dP − (dP·wl) wl| for a unit wl
-  }
-  vec3 n = vec3(pc.light_nx, pc.light_ny, pc.light_nz);
-  float c = dot(wl, n);
-  c = c < 0.0 ? min(c, -SHADOWS_ISG_MIN_COS) : max(c, SHADOWS_ISG_MIN_COS);
-  return length(dP - (dot(dP, n) / c) * wl);
-}
-
-// The distance along the light's direction that across() takes off dP: an occluder at distance
-// d from a point dP away from p_0 lies d + along(dP, wl) from p_0, in the depth the
-// cross-section is measured at (sphere lights: along the ray; disk and rect lights: the plane
-// parallel to the light's, so that an occluder parallel to the light keeps its distance).
+// The distance along the light's direction wl that across() takes off dP, the depth at which
+// the penumbra's cross-section is measured: an occluder at distance d from a point dP away from
+// p_0 lies d + along(dP, wl) from p_0 (sphere lights: along the ray; disk and rect lights: up to
+// the plane through dP parallel to the light's, so that an occluder parallel to the light keeps
+// its distance).
 float along(vec3 dP, vec3 wl) {
   if ((FLAGS & SHADOWS_ISG_ORIENTED) == 0u) return dot(dP, wl);
   vec3 n = vec3(pc.light_nx, pc.light_ny, pc.light_nz);
   float c = dot(wl, n);
   c = c < 0.0 ? min(c, -SHADOWS_ISG_MIN_COS) : max(c, SHADOWS_ISG_MIN_COS);
   return dot(dP, n) / c;
+}
+
+// The distance from p_0 in the penumbra's cross-section: dP projected along the light direction
+// wl onto the plane across the ray (sphere lights: the silhouette faces every receiver) or onto
+// the light's own plane (disk and rect lights).
+float across(vec3 dP, vec3 wl) {
+  float a = along(dP, wl);
+  if ((FLAGS & SHADOWS_ISG_ORIENTED) == 0u) return sqrt(max(dot(dP, dP) - a * a, 0.0));  // unit wl
+  return length(dP - a * wl);
 }
 
 // Eq. 6-7 without inShadow: a gaussian of the world distance l (scene_radius units), from

@@ -25,6 +25,27 @@ namespace {
 
 constexpr double kPi = std::numbers::pi;
 
+// The fraction of a disk of radius R beyond a chord at signed distance c from its centre.
+double disk_beyond_chord(double c, double R) {
+  if (c <= -R) return 1.0;
+  if (c >= R) return 0.0;
+  return (R * R * std::acos(c / R) - c * std::sqrt(R * R - c * c)) / (kPi * R * R);
+}
+
+// A w x h frame of foreground receivers, every pixel lit (L.shadow 1, no occluder); positions
+// sized for the caller to fill when with_position, else none.
+fx::ShadowInputs lit_frame(int w, int h, bool with_position) {
+  fx::ShadowInputs in;
+  in.w = w;
+  in.h = h;
+  const size_t n = size_t(w) * h;
+  in.shadow.assign(n, 1.0f);
+  in.occluder.assign(n, 0.0f);
+  in.fg.assign(n, 1.0f);
+  if (with_position) in.position.assign(3 * n, 0.0f);
+  return in;
+}
+
 // Parallel planes: a disk light of radius R at height H facing down over the receiver z = 0,
 // an occluding half-plane x' < 0 at height h (invisible to the camera), the camera at height 6
 // looking straight down. A light point (lx, ly, H) is visible from (x, y, 0) iff the segment
@@ -57,21 +78,12 @@ struct Planes {
   double wy(int y) const { return -(y + 0.5 - 0.5 * h) / (0.5 * h) * half_extent; }
   double exact(int x) const { return exact_at(wx(x)); }
   double exact_at(double px) const {
-    const double c = -px * (H - hocc) / hocc;
-    if (c <= -R) return 1.0;
-    if (c >= R) return 0.0;
-    return (R * R * std::acos(c / R) - c * std::sqrt(R * R - c * c)) / (kPi * R * R);
+    return disk_beyond_chord(-px * (H - hocc) / hocc, R);
   }
   fx::ShadowInputs inputs(bool with_position = true) const {
-    fx::ShadowInputs in;
-    in.w = w;
-    in.h = h;
+    fx::ShadowInputs in = lit_frame(w, h, with_position);
     const size_t n = size_t(w) * h;
-    in.shadow.resize(n);
-    in.occluder.resize(n);
-    in.fg.assign(n, 1.0f);
-    if (with_position) in.position.resize(3 * n);
-    else in.depth.assign(n, float(cam_z));
+    if (!with_position) in.depth.assign(n, float(cam_z));
     for (int y = 0; y < h; ++y) {
       for (int x = 0; x < w; ++x) {
         const size_t i = size_t(y) * w + x;
@@ -409,14 +421,9 @@ TEST_F(ShadowsIsg, GrazingViewKeepsTheClosedForm) {
     cam.world_to_camera[size_t(i * 4 + 3)] = -(R[i][0] * E[0] + R[i][1] * E[1] + R[i][2] * E[2]);
   }
   const double f_px = 0.5 * pl.h / std::tan(cam.yfov_deg * kPi / 360.0);
-  fx::ShadowInputs in;
-  in.w = pl.w;
-  in.h = pl.h;
+  fx::ShadowInputs in = lit_frame(pl.w, pl.h, true);
   const size_t n = size_t(pl.w) * pl.h;
-  in.shadow.assign(n, 1.0f);
-  in.occluder.assign(n, 0.0f);
-  in.fg.assign(n, 0.0f);
-  in.position.assign(3 * n, 0.0f);
+  in.fg.assign(n, 0.0f);  // background where the view misses the receiver
   std::vector<double> wxs(n, 0.0);
   for (int y = 0; y < pl.h; ++y)
     for (int x = 0; x < pl.w; ++x) {
@@ -481,19 +488,9 @@ TEST_F(ShadowsIsg, UprightEdgeUnderALowLightKeepsTheClosedForm) {
   light.type = isg::io::LightType::sphere;
   light.position = {L[0], L[1], L[2]};
   light.radius = r;
-  fx::ShadowInputs in;
-  in.w = w;
-  in.h = h;
+  fx::ShadowInputs in = lit_frame(w, h, true);
   const size_t n = size_t(w) * h;
-  in.shadow.resize(n);
-  in.occluder.resize(n);
-  in.fg.assign(n, 1.0f);
-  in.position.resize(3 * n);
   std::vector<double> exact(n, 1.0);
-  auto segment = [&](double c) {  // the disk's area beyond a chord c ≥ 0 from its centre, / πr²
-    if (c >= r) return 0.0;
-    return (r * r * std::acos(c / r) - c * std::sqrt(r * r - c * c)) / (kPi * r * r);
-  };
   for (int y = 0; y < h; ++y)
     for (int x = 0; x < w; ++x) {
       const size_t i = size_t(y) * w + x;
@@ -503,18 +500,14 @@ TEST_F(ShadowsIsg, UprightEdgeUnderALowLightKeepsTheClosedForm) {
       in.position[n + i] = float(py);
       in.position[2 * n + i] = 0.0f;
       const double dx = L[0] - px, dy = L[1] - py, D = std::sqrt(dx * dx + dy * dy + L[2] * L[2]);
-      if (py >= 0.0) {  // in front of the wall
-        in.shadow[i] = 1.0f;
-        in.occluder[i] = 0.0f;
-        continue;
-      }
+      if (py >= 0.0) continue;  // in front of the wall: lit
       const double s = -py / dy;  // the ray to the light's centre meets y = 0 here
       const bool lit = px + s * dx >= 0.0;
       in.shadow[i] = lit ? 1.0f : 0.0f;
       in.occluder[i] = lit ? 0.0f : float(s * D);
       const double hp = std::sqrt(px * px + py * py), delta = (py * L[0] - px * L[1]) / hp;
       const double c = std::abs(delta) / std::sqrt(1.0 - delta * delta / (D * D));
-      exact[i] = lit ? 1.0 - segment(c) : segment(c);
+      exact[i] = disk_beyond_chord(lit ? -c : c, r);
     }
   auto p = fx::default_params();
   const auto st = fx::shadow_settings(light, cam, 4.0, p, h);

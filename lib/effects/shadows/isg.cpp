@@ -92,28 +92,22 @@ struct Ctx {
     if (dd > 1e-20) r.dir = {d[0] / std::sqrt(dd), d[1] / std::sqrt(dd)};
     return r;
   }
-  // The distance in the penumbra's cross-section: d projected along the light direction wl onto
-  // the plane across the ray (sphere lights) or onto the light's own plane (disk and rect).
-  double across(V3 d, V3 wl) const {
-    auto dot = [](V3 a, V3 b) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; };
-    if (!s.oriented) {
-      const double t = dot(d, wl);
-      return len3({d[0] - t * wl[0], d[1] - t * wl[1], d[2] - t * wl[2]});
-    }
-    double c = dot(wl, s.light_normal);
-    c = c < 0.0 ? std::min(c, -SHADOWS_ISG_MIN_COS) : std::max(c, SHADOWS_ISG_MIN_COS);
-    const double t = dot(d, s.light_normal) / c;
-    return len3({d[0] - t * wl[0], d[1] - t * wl[1], d[2] - t * wl[2]});
-  }
-  // The distance along wl that across() takes off d: an occluder at distance t from a point d
-  // away from p_0 lies t + along(d, wl) from p_0 (sphere lights: along the ray; disk and rect
-  // lights: in the plane parallel to the light's).
+  // The distance along wl that across() takes off d, the depth at which the penumbra's
+  // cross-section is measured: an occluder at distance t from a point d away from p_0 lies
+  // t + along(d, wl) from p_0 (sphere lights: along the ray; disk and rect lights: up to the
+  // plane through d parallel to the light's).
   double along(V3 d, V3 wl) const {
     auto dot = [](V3 a, V3 b) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; };
     if (!s.oriented) return dot(d, wl);
     double c = dot(wl, s.light_normal);
     c = c < 0.0 ? std::min(c, -SHADOWS_ISG_MIN_COS) : std::max(c, SHADOWS_ISG_MIN_COS);
     return dot(d, s.light_normal) / c;
+  }
+  // The distance in the penumbra's cross-section: d projected along the light direction wl onto
+  // the plane across the ray (sphere lights) or onto the light's own plane (disk and rect).
+  double across(V3 d, V3 wl) const {
+    const double t = along(d, wl);
+    return len3({d[0] - t * wl[0], d[1] - t * wl[1], d[2] - t * wl[2]});
   }
   // Bilinear taps of q (pixel centres at +0.5); taps outside the image get weight 0.
   void taps(V2 q, size_t t[4], double bw[4]) const {
