@@ -76,10 +76,14 @@ float along(vec3 dP, vec3 wl) {
 // The distance from p_0 in the penumbra's cross-section: dP projected along the light direction
 // wl onto the plane across the ray (sphere lights: the silhouette faces every receiver) or onto
 // the light's own plane (disk and rect lights).
+// across_at: with a = along(dP, wl) and cs = dP − a·wl given.
+float across_at(vec3 dP, float a, vec3 cs) {
+  if ((FLAGS & SHADOWS_ISG_ORIENTED) == 0u) return sqrt(max(dot(dP, dP) - a * a, 0.0));  // unit wl
+  return length(cs);
+}
 float across(vec3 dP, vec3 wl) {
   float a = along(dP, wl);
-  if ((FLAGS & SHADOWS_ISG_ORIENTED) == 0u) return sqrt(max(dot(dP, dP) - a * a, 0.0));  // unit wl
-  return length(dP - a * wl);
+  return across_at(dP, a, dP - a * wl);
 }
 
 // Eq. 6-7 without inShadow: a gaussian of the world distance l (scene_radius units), from
@@ -100,7 +104,7 @@ float penumbra(float d, float D) { return pc.light_size * d / max(D - d, SHADOWS
 // the receiver. The penumbra's footprint on the receiver (the disk of radius R_s across the ray,
 // projected along it) is an ellipse: R_s / c along that direction, R_s across it (issue 19).
 struct Recv {
-  vec3 P0, wl;
+  vec3 P0, wl, n;  // n: the receiver's normal on the light's side, 0 where P gives none
   float D, pix, inv_pix, c;
   vec2 dir;
 };
@@ -113,10 +117,12 @@ Recv receiver(uvec2 p, vec3 P0) {
   R.wl = (light() - P0) / max(R.D, 1e-20);
   R.c = 1.0;
   R.dir = vec2(1.0, 0.0);
+  R.n = vec3(0.0);
   vec3 n = cross(axis_diff(p, P0, uvec2(1u, 0u)), axis_diff(p, P0, uvec2(0u, 1u)));
   float ln = length(n);
   if (ln > 0.0) {
     n /= ln;
+    R.n = dot(n, R.wl) < 0.0 ? -n : n;
     R.c = max(abs(dot(n, R.wl)), 1.0 / SHADOWS_ISG_MAX_STRETCH);
     // The screen image of t = wl − (wl·n) n at P0 (the derivative of the projection).
     vec3 dc = rot() * (R.wl - dot(R.wl, n) * n);
@@ -190,10 +196,32 @@ vec2 search_sums(Recv R, uvec2 p, uint i, float Rp, uint part, uint parts) {
 float search_mean(vec2 s) { return s.x > 0.0 ? s.y / s.x : -1.0; }
 float search(Recv R, uvec2 p, uint i, float Rp) { return search_mean(search_sums(R, p, i, Rp, 0u, 1u)); }
 
-// Gather (eq. 4) over the shadow bits: uniform over the points within R_s of p_0 across the
-// light direction (a one-pixel ramp at the rim): on the receiver, the penumbra's footprint,
-// stretched by 1 / cos θ_i; on grazing receivers the screen disk, which reaches far along the
-// surface, is cut back to it. The gaussian of eq. 6 as range function. Bilinear taps, here and
+// A tap's share of p_0's irradiance (issue 19), relative to the light's centre. Through an
+// occluder at distance d, the tap at offset cs across the light direction (its cross-section
+// offset, |cs| = across()) casts the shadow of the light point w = cs · L / R_s from the light's
+// centre (eq. 8's similar triangles: the ray from p_0 through the occluder point that blocks the
+// tap's own ray to the centre), so the gather's uniform weight over the cross-section is uniform
+// over the light's disk. The renderer's soft shadow weighs each point of the light by the
+// irradiance it gives p_0: at r = D·wl + w, max(n·r, 0) · |n_l·r| / |r|⁴ (the receiver's cosine,
+// the emitter's, the inverse square; n_l = wl for a sphere light, whose disk faces p_0). Under a
+// low light its top lights a floor several times as much as its bottom, and the part below the
+// receiver's horizon not at all. 1 where the receiver's normal is unknown.
+float irradiance(Recv R, vec3 cs, float Rs) {
+  if (R.n == vec3(0.0)) return 1.0;
+  vec3 r = R.D * R.wl + cs * (pc.light_size / max(Rs, 1e-30));
+  float q = R.D * R.D / dot(r, r);
+  float e = 1.0;
+  if ((FLAGS & SHADOWS_ISG_ORIENTED) != 0u) {
+    vec3 nl = vec3(pc.light_nx, pc.light_ny, pc.light_nz);
+    e = abs(dot(nl, r)) / (R.D * max(abs(dot(nl, R.wl)), SHADOWS_ISG_MIN_COS));
+  }
+  return max(dot(R.n, r), 0.0) / (R.D * max(dot(R.n, R.wl), SHADOWS_ISG_MIN_CN)) * e * q * q;
+}
+
+// Gather (eq. 4) over the shadow bits: over the points within R_s of p_0 across the light
+// direction (a one-pixel ramp at the rim), each weighed by its light point's irradiance
+// (irradiance()): on the receiver, the penumbra's footprint, stretched by 1 / cos θ_i; on
+// grazing receivers the screen disk, which reaches far along the surface, is cut back to it. The gaussian of eq. 6 as range function. Bilinear taps, here and
 // in the search: the shadow bits are a binary signal, and point taps of them alias (issue 18:
 // isg-synth contact's error rose 40 % with point taps in the gather, shared contact's 7 % at 9
 // search samples with point taps in the search).
@@ -213,9 +241,11 @@ vec2 gather_sums(Recv R, uvec2 p, uint i, float Rs, uint part, uint parts) {
       vec4 Tt = texelFetch(pack, int(xx.y * int(pc.width) + xx.x));
       if (!foreground(Tt)) continue;
       vec3 dP = Tt.xyz - R.P0;
-      float l = across(dP, R.wl);
+      float a = along(dP, R.wl);
+      vec3 cs = dP - a * R.wl;
+      float l = across_at(dP, a, cs);
       float bw = ((j & 1) != 0 ? f.x : 1.0 - f.x) * ((j >> 1) != 0 ? f.y : 1.0 - f.y);
-      float r = range_l2(dot(dP, dP)) * clamp((Rs + 0.5 * R.pix - l) * R.inv_pix, 0.0, 1.0) * bw;
+      float r = range_l2(dot(dP, dP)) * clamp((Rs + 0.5 * R.pix - l) * R.inv_pix, 0.0, 1.0) * bw * irradiance(R, cs, Rs);
       sum += r * Tt.w;
       ws += r;
     }

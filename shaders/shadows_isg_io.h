@@ -51,6 +51,9 @@ ISG_IO_BEGIN
 // With t from the tap (its own L.occluder, as before) and 2: 0.353 0.201 0.391 0.620 0.377 0.519;
 // synth 0.02269, grazing view 0.00953. 1.75 is the one no case loses by (rowdepth +0.5 %).
 #define SHADOWS_ISG_REACH 1.75
+// irradiance(): the receiver's cosine to the light's centre is kept above this in the weights'
+// normalisation (a receiver edge-on to the light's centre still sees its upper half).
+#define SHADOWS_ISG_MIN_CN 1e-3
 // Disk and rect lights: the cosine between the light's direction and its plane's normal is kept
 // above this in the cross-section distance (across()).
 #define SHADOWS_ISG_MIN_COS 0.2

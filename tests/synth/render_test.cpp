@@ -51,6 +51,41 @@ TEST(ClosedForm, DiskVisibleFraction) {
   }
 }
 
+// The irradiance-weighted share of a light disk beyond a chord (the quadrature of the
+// closed-form soft shadow) against a midpoint sum over a fine grid of the disk, and against the
+// uniform fraction where the weight is nearly constant (a light far away).
+TEST(ClosedForm, DiskIrradianceBeyondChord) {
+  const Vec3 centre{0.2, -0.1, 1.0}, u{1, 0, 0}, v{0, 1, 0};
+  const double R = 0.5;
+  auto brute = [&](Vec3 p, Vec3 n, double c) {
+    const int m = 1500;
+    double all = 0, part = 0;
+    for (int j = 0; j < m; ++j)
+      for (int i = 0; i < m; ++i) {
+        const double x = R * (2.0 * (i + 0.5) / m - 1), y = R * (2.0 * (j + 0.5) / m - 1);
+        if (x * x + y * y > R * R) continue;
+        const Vec3 r = centre + u * x + v * y - p;
+        const double r2 = dot(r, r), w = std::max(dot(n, r), 0.0) * std::abs(r.z) / (r2 * r2);
+        all += w;
+        if (x > c) part += w;
+      }
+    return part / all;
+  };
+  // A receiver under the light, tilted; one the light stands low over (part of the disk below
+  // its horizon, where the weight has a kink).
+  const Vec3 tilted = normalize(Vec3{0.3, 0.1, 1.0}), low = normalize(Vec3{1.0, 0.0, 0.35});
+  for (double c : {-0.3, 0.0, 0.2, 0.45}) {
+    EXPECT_NEAR(disk_irradiance_beyond_chord({0.5, 0.3, 0}, tilted, centre, u, v, R, c),
+                brute({0.5, 0.3, 0}, tilted, c), 2e-5) << c;
+    EXPECT_NEAR(disk_irradiance_beyond_chord({-1.5, 0.0, 0.8}, low, centre, u, v, R, c),
+                brute({-1.5, 0.0, 0.8}, low, c), 2e-3) << c;
+    EXPECT_NEAR(disk_irradiance_beyond_chord({0.2, -0.1, -1e4}, {0, 0, 1}, centre, u, v, R, c),
+                disk_visible_fraction(c, R), 1e-6) << c;
+  }
+  // Weighted toward the side the receiver faces: its top lights a floor more than its bottom.
+  EXPECT_GT(disk_irradiance_beyond_chord({0.2, -0.1, 0}, tilted, centre, u, v, R, 0.0), 0.5);
+}
+
 // The ray-traced soft visibility converges to the closed form like 1/√N (independent light
 // samples), and faster with stratified samples.
 TEST(ParallelPlanes, SoftShadowConvergesToClosedForm) {

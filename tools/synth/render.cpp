@@ -33,6 +33,48 @@ double disk_visible_fraction(double d, double R) {
   return (R * R * std::acos(x / R) - x * std::sqrt(R * R - x * x)) / (kPi * R * R);
 }
 
+double disk_irradiance_beyond_chord(Vec3 p, Vec3 n, Vec3 centre, Vec3 u, Vec3 v, double R, double c) {
+  // x = R sin θ across the chord (θ from asin(c / R) to π/2), y = R cos θ · t along it
+  // (t ∈ [−1, 1]): dx dy = R² cos² θ dθ dt, smooth in θ and t, integrated by Gauss-Legendre.
+  static const std::vector<std::pair<double, double>> gl = [] {
+    constexpr int kN = 48;
+    std::vector<std::pair<double, double>> nodes;  // (x, weight) on [−1, 1]
+    for (int i = 0; i < kN; ++i) {
+      double x = std::cos(kPi * (i + 0.75) / (kN + 0.5)), dp = 0;
+      for (int it = 0; it < 100; ++it) {  // Newton on the Legendre polynomial P_N
+        double p0 = 1, p1 = x;
+        for (int k = 2; k <= kN; ++k) {
+          const double p2 = ((2 * k - 1) * x * p1 - (k - 1) * p0) / k;
+          p0 = p1;
+          p1 = p2;
+        }
+        dp = kN * (x * p1 - p0) / (x * x - 1);
+        const double dx = p1 / dp;
+        x -= dx;
+        if (std::abs(dx) < 1e-16) break;
+      }
+      nodes.emplace_back(x, 2 / ((1 - x * x) * dp * dp));
+    }
+    return nodes;
+  }();
+  const Vec3 nl = normalize(cross(u, v));
+  auto part = [&](double c0) {
+    const double t0 = std::asin(std::clamp(c0 / R, -1.0, 1.0)), t1 = kPi / 2;
+    double sum = 0;
+    for (const auto& [a, wa] : gl) {
+      const double th = 0.5 * (t0 + t1) + 0.5 * (t1 - t0) * a, x = R * std::sin(th), ymax = R * std::cos(th);
+      for (const auto& [b, wb] : gl) {
+        const Vec3 r = centre + u * x + v * (ymax * b) - p;
+        const double r2 = dot(r, r);
+        sum += wa * wb * ymax * ymax * std::max(dot(n, r), 0.0) * std::abs(dot(nl, r)) / (r2 * r2);
+      }
+    }
+    return sum * 0.5 * (t1 - t0);
+  };
+  const double all = part(-R);
+  return all > 0 ? part(c) / all : disk_visible_fraction(c, R);
+}
+
 Image render_aovs(const Scene& s, const Options& o) {
   Image img(o.width, o.height,
             {"R",
@@ -140,10 +182,11 @@ Image render_softshadow(const Scene& s, const Options& o, int spp) {
     for (int x = 0; x < o.width; ++x) {
       const uint64_t id = pixel_id(x, y, o.width);
       Rng jitter(id, 0, kAovJitter);  // the AOVs' pixel samples, cycled
-      // Σ direct·visible / Σ direct over the pixel's samples (the luminance ratio of
-      // cases/), which is the visible fraction at pixel centres.
-      double num = 0, den = 0, vis_sum = 0;
-      int fg = 0;
+      // Σ direct·visible / Σ direct over the pixel's samples, each light sample's direct light
+      // (area_direct) with its visibility: the luminance ratio of soft to unshadowed key that the
+      // Cycles cases' references are, i.e. the visible fraction of the light weighted by the
+      // irradiance each of its points gives (under a low light its top outweighs its bottom).
+      double num = 0, den = 0;
       const int n_pos = o.aov_spp;
       std::vector<std::pair<double, double>> pos(static_cast<size_t>(n_pos));
       for (int i = 0; i < n_pos; ++i) pos[size_t(i)] = pixel_position(x, y, i, n_pos, jitter);
@@ -156,17 +199,14 @@ Image render_softshadow(const Scene& s, const Options& o, int spp) {
         Rng rng(id, uint64_t(i), kLight);
         const auto [u, v] = stratified(i, spp, rng, o.stratified);
         const Vec3 q = sample_light(s.key, sf.p, u, v);
-        const double vis = occluded(s, sf.p, sf.n, sf.prim, q) ? 0 : 1;
-        const double w = luminance(key_direct(s, sf));
-        num += w * vis;
+        const double w = luminance(area_direct(s, sf, q));
+        if (w > 0 && !occluded(s, sf.p, sf.n, sf.prim, q)) num += w;
         den += w;
-        vis_sum += vis;
-        ++fg;
       }
       // 1 where the key does not light the surface (facing away) or on the background, as
       // the luminance ratio of cases/ gives.
       double value = 1;
-      if (den > 1e-12) value = n_pos > 1 ? num / den : vis_sum / fg;
+      if (den > 1e-12) value = num / den;
       img.at(x, y, 0) = float(value);
     }
   });
@@ -191,7 +231,9 @@ Image render_softshadow_closed_form(const Scene& s, const Options& o) {
         // and the visible part of the disk is the circular segment beyond it.
         const double zl = hl - (h.p.z - pp.receiver_z), zo = ho - (h.p.z - pp.receiver_z);
         const double x_line = h.p.x + (pp.edge_x - h.p.x) * zl / zo;
-        value = disk_visible_fraction(x_line - s.key.position.x, s.key.radius);
+        // The visible part's share of the irradiance (as render_softshadow weighs it).
+        value = disk_irradiance_beyond_chord(h.p, {0, 0, 1}, s.key.position, {1, 0, 0}, {0, 1, 0}, s.key.radius,
+                                             x_line - s.key.position.x);
       }
       img.at(x, y, 0) = float(value);
     }

@@ -145,14 +145,21 @@ double scene_radius(const Scene& scene);
 // beauty outside key.direct·key.shadow + refl.weight·refl), which generate() does not write.
 Image render_aovs(const Scene& scene, const Options& opts);
 Image render_shadowmap(const Scene& scene, int size);  // channel Z
-// key.softshadow: visible fraction of the uniformly sampled light area (sphere: the disk of
-// its radius facing the point), `spp` light samples per pixel.
+// key.softshadow: the luminance ratio of the soft key to the unshadowed one, `spp` light samples
+// per pixel over the light's area (sphere: the disk of its radius facing the point): the visible
+// fraction of the light weighted by the irradiance each of its points gives.
 Image render_softshadow(const Scene& scene, const Options& opts, int spp);
 // key.softshadow from the closed form (parallel-planes only; throws otherwise).
 Image render_softshadow_closed_form(const Scene& scene, const Options& opts);
 // Closed form: the visible fraction of a disk of radius R whose part beyond a chord at signed
 // distance d from its centre is hidden (d ≥ R: all visible, d ≤ −R: all hidden).
 double disk_visible_fraction(double d, double R);
+// The share of the irradiance a receiver at p with normal n gets from a light disk (centre
+// `centre`, orthonormal in-plane axes u and v, radius R, emitting from both faces) that comes from
+// the part beyond the chord {x·u > c}: ∫ max(n·r, 0) |n_l·r| / |r|⁴ over that part over the same
+// over the disk (r from p to the light point, n_l = u × v), by Gauss-Legendre quadrature in double.
+// The uniform fraction disk_visible_fraction(c, R) where no part of the disk lights p.
+double disk_irradiance_beyond_chord(Vec3 p, Vec3 n, Vec3 centre, Vec3 u, Vec3 v, double R, double c);
 Image render_glossy(const Scene& scene, const Options& opts, int spp);      // refl.glossy.R/G/B
 Image render_dof(const Scene& scene, const Options& opts, int spp);         // R G B A
 Image render_beauty_ref(const Scene& scene, const Options& opts, int spp);  // R G B A

@@ -69,6 +69,7 @@ struct Ctx {
   struct Incidence {
     double c = 1.0;
     V2 dir = {1.0, 0.0};
+    V3 n = {0.0, 0.0, 0.0};  // the receiver's normal on the light's side; 0 where P gives none
   };
   Incidence incidence(int x, int y, V3 P0, V3 wl) const {
     Incidence r;
@@ -78,6 +79,7 @@ struct Ctx {
     if (!(ln > 0.0)) return r;
     nn = {nn[0] / ln, nn[1] / ln, nn[2] / ln};
     const double wn = nn[0] * wl[0] + nn[1] * wl[1] + nn[2] * wl[2];
+    r.n = wn < 0.0 ? V3{-nn[0], -nn[1], -nn[2]} : nn;
     r.c = std::max(std::abs(wn), 1.0 / SHADOWS_ISG_MAX_STRETCH);
     // The screen image of t = wl − (wl·n) n at P0: the derivative of the projection.
     const V3 t = {wl[0] - wn * nn[0], wl[1] - wn * nn[1], wl[2] - wn * nn[2]};
@@ -108,6 +110,20 @@ struct Ctx {
   double across(V3 d, V3 wl) const {
     const double t = along(d, wl);
     return len3({d[0] - t * wl[0], d[1] - t * wl[1], d[2] - t * wl[2]});
+  }
+  // A tap's share of p_0's irradiance relative to the light's centre (the shader's
+  // irradiance()): the tap at cross-section offset cs stands for the light point
+  // w = cs · L / R_s; a light point at r = D·wl + w gives max(n·r, 0) · |n_l·r| / |r|⁴.
+  double irradiance(V3 nr, V3 wl, double D, V3 cs, double Rs) const {
+    auto dot = [](V3 a, V3 b) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; };
+    if (nr[0] == 0.0 && nr[1] == 0.0 && nr[2] == 0.0) return 1.0;
+    const double k = s.light_size / std::max(Rs, 1e-30);
+    const V3 r = {D * wl[0] + k * cs[0], D * wl[1] + k * cs[1], D * wl[2] + k * cs[2]};
+    const double q = D * D / dot(r, r);
+    const double e = s.oriented ? std::abs(dot(s.light_normal, r)) /
+                                      (D * std::max(std::abs(dot(s.light_normal, wl)), SHADOWS_ISG_MIN_COS))
+                                : 1.0;
+    return std::max(dot(nr, r), 0.0) / (D * std::max(dot(nr, wl), SHADOWS_ISG_MIN_CN)) * e * q * q;
   }
   // Bilinear taps of q (pixel centres at +0.5); taps outside the image get weight 0.
   void taps(V2 q, size_t t[4], double bw[4]) const {
@@ -258,8 +274,8 @@ std::vector<float> shadows_isg_reference(const ShadowInputs& in, const ShadowSet
         }
         return sw > 0.0 ? swd / sw : -1.0;
       };
-      // Gather (eq. 4): uniform over the points within R_s of p_0 across the light direction
-      // (the penumbra's footprint on the receiver).
+      // Gather (eq. 4): over the points within R_s of p_0 across the light direction (the
+      // penumbra's footprint on the receiver), each weighed by its light point's irradiance.
       auto gather = [&](int x, int y, const Recv& R, double Rs) {
         const size_t i = size_t(y) * in.w + x;
         double sum = in.shadow[i], ws = 1.0;
@@ -271,8 +287,11 @@ std::vector<float> shadows_isg_reference(const ShadowInputs& in, const ShadowSet
           for (int j = 0; j < 4; ++j) {
             if (bw[j] == 0.0 || !c.fg(t[j])) continue;
             const V3 dP = sub(c.position(t[j]), R.P0);
-            const double l = c.across(dP, R.wl);
-            const double r = c.range_l(len3(dP)) * std::clamp((Rs + 0.5 * R.pix - l) / R.pix, 0.0, 1.0) * bw[j];
+            const double a = c.along(dP, R.wl);
+            const V3 cs = {dP[0] - a * R.wl[0], dP[1] - a * R.wl[1], dP[2] - a * R.wl[2]};
+            const double l = len3(cs);
+            const double r = c.range_l(len3(dP)) * std::clamp((Rs + 0.5 * R.pix - l) / R.pix, 0.0, 1.0) * bw[j] *
+                             c.irradiance(R.inc.n, R.wl, R.D, cs, Rs);
             sum += r * in.shadow[t[j]];
             ws += r;
           }
