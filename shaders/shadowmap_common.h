@@ -65,6 +65,7 @@ bool sm_inside(vec3 q) {
 // shadows.slope_max.
 // back: the plane through the neighbours faces away from the light (seen from the camera's
 // side), where the contract keeps L.shadow (1 where key.direct vanishes).
+vec3 sm_n = vec3(0.0);  // the receiver's normal on the light's side (sm_receiver_plane), 0: none
 vec4 sm_receiver_plane(uvec2 px, vec3 q, vec3 P, out bool back) {
   vec3 d[2];
   vec3 t[2];
@@ -101,6 +102,11 @@ vec4 sm_receiver_plane(uvec2 px, vec3 q, vec3 P, out bool back) {
   }
   spread = (spread >= 1e30 ? 0.0 : spread) + p.depth_eps + p.input_ulps * sm_input_step(px.y * p.width + px.x);
   if (found < 2) return vec4(0.0, 0.0, spread, p.slope_max);
+  {
+    vec3 nrm = cross(t[0], t[1]);
+    float ln = length(nrm);
+    if (ln > 0.0) sm_n = (dot(nrm, -P) < 0.0 ? -nrm : nrm) / ln;
+  }
   if (p.has_camera != 0u) {
     vec3 nrm = cross(t[0], t[1]);
     if (dot(nrm, vec3(p.eye_rel_x, p.eye_rel_y, p.eye_rel_z) - P) < 0.0) nrm = -nrm;
@@ -119,6 +125,23 @@ vec4 sm_receiver_plane(uvec2 px, vec3 q, vec3 P, out bool back) {
     if (!planar) break;
   }
   return vec4(g, spread, planar ? max(p.slope_max, SHADOWMAP_TRUSTED_SLOPE) : p.slope_max);
+}
+
+// A filter tap's share of the receiver's irradiance, relative to the light's centre (issue 19;
+// shadows.isg's irradiance()): the PCF tap at unit offset u in the filter's disk (texel axes,
+// v down), at the penumbra's radius, stands for the light point w = L·(u.x, −u.y) in the light's
+// frame (the ray from the receiver through the blocker it samples ends there), and that point,
+// at r = w − P from the receiver, gives it max(n·r, 0)·|n_l·r| / |r|⁴ (n_l: the disk facing the
+// receiver for a sphere light, the map's axis for a disk or rect light). A renderer's soft shadow
+// weighs the light's points so: under a low light its top lights a floor several times as much
+// as its bottom. 1 where the receiver's normal is unknown.
+float sm_irradiance(vec3 P, vec2 u) {
+  if (sm_n == vec3(0.0)) return 1.0;
+  vec3 w = p.light_radius * (u.x * vec3(p.l00, p.l01, p.l02) - u.y * vec3(p.l10, p.l11, p.l12));
+  vec3 r = w - P, nl = p.facing != 0u ? P : vec3(p.l20, p.l21, p.l22);
+  float D2 = dot(P, P), q = D2 / dot(r, r);
+  return max(dot(sm_n, r), 0.0) * abs(dot(nl, r)) /
+         (max(dot(sm_n, -P), SHADOWMAP_MIN_CN * sqrt(D2)) * max(abs(dot(nl, -P)), 1e-30)) * q * q;
 }
 
 // The receiver's depth at texel centre c (receiver plane, slope clamped to g.w) minus the bias:

@@ -51,7 +51,12 @@ struct ShadowmapParams {
   float input_ulps;
   float reach;  // shadows.reach: pcss's and vssm's filter taps (0: off)
   float input_edges;  // shadows.input_edges, texels (0: off): L.shadow's weight (sm_input_edges)
+  uint facing;  // 1: a sphere light, its disk facing the receiver; 0: a disk or rect light in the
+                // map's plane (sm_irradiance's emitter cosine)
 };
+// sm_irradiance: the receiver's cosine to the light's centre is kept above this in the weights'
+// normalisation (a receiver edge-on to the light's centre still sees its upper half).
+#define SHADOWMAP_MIN_CN 1e-3
 // The map's precision: this many times its measured depth noise (ShadowmapData::noise, the
 // deviation of independent per-texel noise; a float32 step is about 2.4 of it).
 #define SHADOWMAP_NOISE_EPS 4.0

@@ -54,12 +54,15 @@ void main() {
   float db = sum / float(cnt);
   float rf = k * max(1.0 / db - 1.0 / q.z, 0.0);
   if (rf > p.max_radius) { rf = p.max_radius; atomicAdd(stats[SHADOWMAP_STAT_CLAMPED], 1u); }
-  uint lit = 0u;
+  float lit = 0.0, all = 0.0;
   for (uint t = 0u; t < p.taps; ++t) {
-    vec2 c = floor(q.xy + rot * texelFetch(taps, int(t)).xy * rf) + 0.5;
-    if (c.x < 0.0 || c.y < 0.0 || c.x >= float(p.map_w) || c.y >= float(p.map_h)) { ++lit; continue; }
+    vec2 u = rot * texelFetch(taps, int(t)).xy;
+    float wt = sm_irradiance(P, u);
+    all += wt;
+    vec2 c = floor(q.xy + u * rf) + 0.5;
+    if (c.x < 0.0 || c.y < 0.0 || c.x >= float(p.map_w) || c.y >= float(p.map_h)) { lit += wt; continue; }
     float zm = sm_fetch(c);
-    if (zm >= sm_threshold(q, g, c, texel_world) || !sm_reaches(q, c, zm, p.reach * k)) ++lit;
+    if (zm >= sm_threshold(q, g, c, texel_world) || !sm_reaches(q, c, zm, p.reach * k)) lit += wt;
   }
-  soft[i] = sm_input_edges(float(lit) / float(p.taps), texelFetch(hard, int(i)).r, rf);
+  soft[i] = sm_input_edges(all > 0.0 ? lit / all : 1.0, texelFetch(hard, int(i)).r, rf);
 }

@@ -85,13 +85,13 @@ TEST_F(ShadowmapGpu, PcssParallelPlanesMatchesClosedForm) {
     double e = 0;
     for (int y = 0; y < in.h; ++y)
       for (int x = 0; x < in.w; ++x) {
-        double v = pl.visible(in.position[size_t(y) * in.w + x]);
+        double v = pl.visible(in, size_t(y) * in.w + x);
         e += std::pow(got[size_t(y) * in.w + x] - v, 2);
       }
     e = std::sqrt(e / double(in.w * in.h));
     std::printf("parallel planes, pcss %s 64 taps: RMSE %.4f, %.1f%% skipped\n", pat, e,
                 100 * st.skipped_fraction());
-    EXPECT_LT(e, 0.015) << pat;  // measured 0.0106 (poisson), 0.0058 (stratified)
+    EXPECT_LT(e, 0.015) << pat;  // measured 0.0111 (poisson), 0.0131 (stratified)
     EXPECT_GT(st.skipped_fraction(), 0.3);  // the lit half skips the PCF
   }
 }

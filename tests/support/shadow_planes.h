@@ -10,6 +10,7 @@
 
 #include "effects/shadows/shadowmap.h"
 #include "gpu/gpu.h"
+#include "synth.h"
 
 namespace isg::test {
 namespace gpu = isg::gpu;
@@ -59,13 +60,22 @@ struct Planes {
       }
     return in;
   }
-  // Closed form for the parallel planes: the part of the light disk seen past the edge (the line
-  // from the receiver at x through the edge meets the light's plane at c).
-  double visible(double x) const {
-    double c = (edge * z_r - x) * d_o / (z_r - d_o);
+  // Closed form for the receiver at P = (x, y, −z): the part of the light's disk (radius R in
+  // the plane z = 0) seen past the edge (the line from the receiver through the edge meets the
+  // light's plane at c), as its share of the receiver's irradiance (the receiver's cosine, the
+  // disk's, the inverse square: what a renderer's soft shadow is; isg-synth's quadrature).
+  double visible(const float* P) const {
+    const double x = P[0], z = z_r + slope * x, c = (edge * z - x) * d_o / (z - d_o);
     if (c >= R) return 0.0;
     if (c <= -R) return 1.0;
-    return (R * R * std::acos(c / R) - c * std::sqrt(R * R - c * c)) / (kPi * R * R);
+    const double ns = std::sqrt(1.0 + slope * slope);
+    return isg::synth::disk_irradiance_beyond_chord({x, double(P[1]), -z}, {slope / ns, 0.0, 1.0 / ns}, {0, 0, 0},
+                                                    {1, 0, 0}, {0, 1, 0}, R, c);
+  }
+  double visible(const fx::ShadowmapInputs& in, size_t i) const {
+    const size_t n = size_t(in.w) * size_t(in.h);
+    const float P[3] = {in.position[i], in.position[n + i], in.position[2 * n + i]};
+    return visible(P);
   }
   fx::ShadowmapSettings settings(int taps, const std::string& pattern,
                                  const std::string& method = "pcss") const {
@@ -73,6 +83,7 @@ struct Planes {
     s.method = method;
     s.yfov_deg = 90.0;
     s.light_radius = R;
+    s.facing = false;  // a disk light in the map's plane, as the closed form has it
     s.taps = taps;
     s.pattern = pattern;
     return s;
@@ -120,7 +131,7 @@ inline double planes_rmse(const Planes& pl, const fx::ShadowmapInputs& in, const
   for (int y = 0; y < in.h; ++y)
     for (int x = 0; x < in.w; ++x) {
       const size_t i = size_t(y) * in.w + x;
-      e += std::pow(got[i] - pl.visible(in.position[i]), 2);
+      e += std::pow(got[i] - pl.visible(in, i), 2);
     }
   return std::sqrt(e / double(in.w * in.h));
 }

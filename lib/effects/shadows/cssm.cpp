@@ -289,7 +289,7 @@ std::vector<float> cssm_reference(const ShadowmapInputs& in, const ShadowmapData
   const int M = u.M;
   ShadowmapStats st;
   const double k = s.light_radius * map.height / (2.0 * G.tan_y);
-  auto out = detail::shade_receivers(G, st, [&](int, int, const V3& q, const Plane& g) -> Shaded {
+  auto out = detail::shade_receivers(G, st, [&](int, int, const V3& q, const Plane& g, const V3&, const V3&) -> Shaded {
     const double texel_world = 2.0 * q[2] * G.tan_y / map.height;
     const double cx = std::floor(q[0]) + 0.5, cy = std::floor(q[1]) + 0.5;
     const double d =

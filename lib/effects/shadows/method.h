@@ -61,7 +61,9 @@ struct Geom {
   bool inside(const V3& q) const {
     return q[2] > 0 && q[2] <= double(float(std::min(s.far_clip, 1e30))) && q[0] >= 0 && q[1] >= 0 && q[0] < map.width && q[1] < map.height;
   }
-  Plane receiver_plane(int px, int py, const V3& q, const V3& P, bool& back) const {
+  // normal: where given, the receiver's normal on the light's side (0 where the neighbours give
+  // none; sm_n).
+  Plane receiver_plane(int px, int py, const V3& q, const V3& P, bool& back, V3* normal = nullptr) const {
     std::array<V3, 2> d{}, t{}, other{};  // other: the neighbour of each pair left out of the fit
     std::array<bool, 2> has_other{false, false};
     back = false;
@@ -95,9 +97,14 @@ struct Geom {
     spread = (spread >= 1e30 ? 0.0 : spread) + eps +
              double(float(s.depth_ulps)) * input_step(size_t(py) * size_t(in.w) + size_t(px));
     if (found < 2) return {0, 0, spread, s.slope_max};
+    const V3 nr = {t[0][1] * t[1][2] - t[0][2] * t[1][1], t[0][2] * t[1][0] - t[0][0] * t[1][2],
+                   t[0][0] * t[1][1] - t[0][1] * t[1][0]};
+    if (normal) {
+      const double ln = std::sqrt(nr[0] * nr[0] + nr[1] * nr[1] + nr[2] * nr[2]);
+      const double tl = nr[0] * (light_pos[0] - P[0]) + nr[1] * (light_pos[1] - P[1]) + nr[2] * (light_pos[2] - P[2]);
+      if (ln > 0) *normal = {nr[0] / ln * (tl < 0 ? -1 : 1), nr[1] / ln * (tl < 0 ? -1 : 1), nr[2] / ln * (tl < 0 ? -1 : 1)};
+    }
     if (s.has_camera) {
-      V3 nr = {t[0][1] * t[1][2] - t[0][2] * t[1][1], t[0][2] * t[1][0] - t[0][0] * t[1][2],
-               t[0][0] * t[1][1] - t[0][1] * t[1][0]};
       auto dot_to = [&](const std::array<double, 3>& X) {
         return nr[0] * (X[0] - P[0]) + nr[1] * (X[1] - P[1]) + nr[2] * (X[2] - P[2]);
       };
@@ -119,6 +126,26 @@ struct Geom {
       if (!planar) break;
     }
     return {gx, gy, spread, planar ? std::max(s.slope_max, SHADOWMAP_TRUSTED_SLOPE) : s.slope_max};
+  }
+  // A filter tap's share of the receiver's irradiance relative to the light's centre
+  // (sm_irradiance): the tap at unit offset (ux, uy) of the filter's disk (texel axes, v down)
+  // stands for the light point w = L·(ux, −uy) in the light's frame; at r = w − (P − light) it
+  // gives max(n·r, 0)·|n_l·r| / |r|⁴ (n_l: the disk facing the receiver for a sphere light, the
+  // map's axis for a disk or rect light). 1 where the normal n is unknown.
+  double irradiance(const V3& P, const V3& nrm, double ux, double uy) const {
+    if (nrm[0] == 0 && nrm[1] == 0 && nrm[2] == 0) return 1.0;
+    const auto& m = s.world_to_light;
+    const V3 d = {P[0] - light_pos[0], P[1] - light_pos[1], P[2] - light_pos[2]};
+    V3 r, nl;
+    for (int k = 0; k < 3; ++k) {
+      r[size_t(k)] = s.light_radius * (ux * m[size_t(k)] - uy * m[size_t(4 + k)]) - d[size_t(k)];
+      nl[size_t(k)] = s.facing ? d[size_t(k)] : m[size_t(8 + k)];
+    }
+    auto dot = [](const V3& a, const V3& b) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; };
+    const double D2 = dot(d, d), q = D2 / dot(r, r);
+    const V3 c = {-d[0], -d[1], -d[2]};
+    return std::max(dot(nrm, r), 0.0) * std::abs(dot(nl, r)) /
+           (std::max(dot(nrm, c), SHADOWMAP_MIN_CN * std::sqrt(D2)) * std::max(std::abs(dot(nl, c)), 1e-30)) * q * q;
   }
   double threshold(const V3& q, const Plane& g, double cx, double cy, double texel_world) const {
     double ox = cx - q[0], oy = cy - q[1];
@@ -180,8 +207,8 @@ struct Shaded {
 
 // Every reference's loop over the receivers, as every shadow-map pass does it: background and
 // pixels outside the map keep the hard shadow; back-facing receivers too (counted as skipped);
-// `shade(px, py, q, g)` gives the rest (q: the receiver in light space, g: its receiver plane),
-// which input_edges finishes.
+// `shade(px, py, q, g, P, n)` gives the rest (q: the receiver in light space, g: its receiver
+// plane, P: its position, n: its normal on the light's side or 0), which input_edges finishes.
 template <class Shade>
 std::vector<float> shade_receivers(const Geom& G, ShadowmapStats& st, Shade&& shade) {
   const auto& in = G.in;
@@ -195,9 +222,10 @@ std::vector<float> shade_receivers(const Geom& G, ShadowmapStats& st, Shade&& sh
       if (!G.inside(q)) continue;
       ++st.pixels;
       bool back = false;
-      const Plane g = G.receiver_plane(px, py, q, P, back);
+      V3 nrm{0, 0, 0};
+      const Plane g = G.receiver_plane(px, py, q, P, back, &nrm);
       if (back) { ++st.skipped; continue; }
-      const Shaded r = shade(px, py, q, g);
+      const Shaded r = shade(px, py, q, g, P, nrm);
       out[i] = float(G.input_edges(r.s, double(in.hard[i]), r.rf, r.r_min));
     }
   return out;

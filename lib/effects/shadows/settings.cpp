@@ -96,6 +96,7 @@ ShadowmapSettings shadowmap_settings(const io::Light& light, const io::Camera* c
   s.yfov_deg = light.shadowmap->yfov_deg;
   s.far_clip = light.shadowmap->far_clip;
   s.light_radius = light_size(light);
+  s.facing = light.type == io::LightType::sphere;
   s.taps = int(p.get(shadow_keys::pcss_taps));
   s.pattern = p.get(shadow_keys::pcss_pattern);
   s.reach = p.get(shadow_keys::reach);

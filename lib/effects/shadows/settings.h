@@ -65,6 +65,8 @@ struct ShadowmapSettings {
   double yfov_deg = 90.0;
   double far_clip = 1e30;                 // the map's far plane: depths beyond it are background
   double light_radius = 0.0;              // world units (light_size() of the light)
+  bool facing = true;                     // a sphere light (its disk faces the receiver), not a
+                                          // disk or rect light (in the map's plane)
   int taps = 32;                          // shadows.pcss_taps
   std::string pattern = "stratified";     // shadows.pcss_pattern: stratified | poisson
   double reach = 2.0;                     // shadows.reach: pcss's and vssm's filter taps (0: off)

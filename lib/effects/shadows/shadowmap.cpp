@@ -67,14 +67,17 @@ std::vector<float> pcss_reference(const ShadowmapInputs& in, const ShadowmapData
   ShadowmapStats st;
   const double k = s.light_radius * map.height / (2.0 * G.tan_y);
   auto out =
-      detail::shade_receivers(G, st, [&](int px, int py, const V3& q, const Plane& g) -> Shaded {
+      detail::shade_receivers(G, st, [&](int px, int py, const V3& q, const Plane& g, const V3& P, const V3& nrm) -> Shaded {
         double texel_world = 2.0 * q[2] * G.tan_y / map.height;
         double a = s.rotate ? pixel_angle(uint32_t(px), uint32_t(py)) : 0.0;
         double ca = std::cos(a), sa = std::sin(a);
+        auto unit = [&](size_t t) -> V2 {  // the tap's offset in the filter's unit disk, turned
+          const double x = taps[2 * t], y = taps[2 * t + 1];
+          return {ca * x - sa * y, sa * x + ca * y};
+        };
         auto tap = [&](size_t t, double r) -> V2 {
-          double x = taps[2 * t], y = taps[2 * t + 1];
-          return {std::floor(q[0] + (ca * x - sa * y) * r) + 0.5,
-                  std::floor(q[1] + (sa * x + ca * y) * r) + 0.5};
+          const V2 u = unit(t);
+          return {std::floor(q[0] + u[0] * r) + 0.5, std::floor(q[1] + u[1] * r) + 0.5};
         };
         double rs = std::min(k * std::max(1.0 / map.min_depth - 1.0 / q[2], 0.0), s.max_radius);
         double sum = 0;
@@ -98,20 +101,24 @@ std::vector<float> pcss_reference(const ShadowmapInputs& in, const ShadowmapData
           rf = s.max_radius;
           ++st.clamped;
         }
-        // The filter's blockers: in front of the receiver plane and within reach.
-        size_t lit = 0;
+        // The filter's blockers: in front of the receiver plane and within reach; each tap
+        // weighed by the irradiance of the light point it stands for.
+        double lit = 0, all = 0;
         for (size_t t = 0; t < nt; ++t) {
+          const V2 u = unit(t);
+          const double wt = G.irradiance(P, nrm, u[0], u[1]);
+          all += wt;
           V2 c = tap(t, rf);
           if (!G.in_map(c[0], c[1])) {
-            ++lit;
+            lit += wt;
             continue;
           }
           const double zm = G.fetch(c[0], c[1]);
           if (zm >= G.threshold(q, g, c[0], c[1], texel_world) ||
               !Geom::reaches(q, c[0], c[1], zm, s.reach * k))
-            ++lit;
+            lit += wt;
         }
-        return {double(lit) / double(nt), rf};
+        return {all > 0 ? lit / all : 1.0, rf};
       });
   if (stats) *stats = st;
   return out;
@@ -130,6 +137,7 @@ shaders::ShadowmapParams shadowmap_params(const ShadowmapSettings& s, const Shad
   p.has_position = has_position ? 1u : 0u;
   p.taps = taps;
   p.rotate = s.rotate ? 1u : 0u;
+  p.facing = s.facing ? 1u : 0u;
   const auto& m = s.world_to_light;
   float* L[12] = {&p.l00, &p.l01, &p.l02, &p.l03, &p.l10, &p.l11,
                   &p.l12, &p.l13, &p.l20, &p.l21, &p.l22, &p.l23};

@@ -421,7 +421,7 @@ std::vector<float> vssm_reference(const ShadowmapInputs& in, const ShadowmapData
   VssmRef R(G, s);
   ShadowmapStats st;
   auto out = detail::shade_receivers(
-      G, st, [&](int px, int py, const V3& q, const Plane& g) { return R.shade(px, py, q, g, st); });
+      G, st, [&](int px, int py, const V3& q, const Plane& g, const V3&, const V3&) { return R.shade(px, py, q, g, st); });
   if (stats) *stats = st;
   return out;
 }
