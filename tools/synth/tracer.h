@@ -449,16 +449,13 @@ inline Vec3 sample_light(const Light& l, Vec3 p, double u, double v) {
 
 // Area-light direct lighting of one light sample q (radiance intensity/area):
 // kd·albedo/π · L_e·A · cos·cos_l / d², i.e. the point light's formula with q for the centre.
-// A sphere light is the disk of its radius facing the point (sample_light), seen at cos_l
-// between that disk's axis and the sample's direction, as Cycles lights a sphere light.
 inline Vec3 area_direct(const Scene& s, const Surface& sf, Vec3 q) {
   const Vec3 to = q - sf.p;
   const double d2 = dot(to, to);
   const Vec3 l = to / std::sqrt(d2);
   const double cos = dot(sf.n, l);
   if (cos <= 0) return {};
-  const double facing = s.key.type == Light::Type::sphere ? dot(normalize(s.key.position - sf.p), l) : 1.0;
-  return sf.m->albedo * (sf.kd / kPi) * light_intensity(s.key, -l) * (facing * cos / d2);
+  return sf.m->albedo * (sf.kd / kPi) * light_intensity(s.key, -l) * (cos / d2);
 }
 
 // ---- GGX (alpha = roughness²), visible-normal sampling (Heitz 2018) ----
