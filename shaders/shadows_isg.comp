@@ -76,14 +76,10 @@ float along(vec3 dP, vec3 wl) {
 // The distance from p_0 in the penumbra's cross-section: dP projected along the light direction
 // wl onto the plane across the ray (sphere lights: the silhouette faces every receiver) or onto
 // the light's own plane (disk and rect lights).
-// across_at: with a = along(dP, wl) and cs = dP − a·wl given.
-float across_at(vec3 dP, float a, vec3 cs) {
-  if ((FLAGS & SHADOWS_ISG_ORIENTED) == 0u) return sqrt(max(dot(dP, dP) - a * a, 0.0));  // unit wl
-  return length(cs);
-}
 float across(vec3 dP, vec3 wl) {
   float a = along(dP, wl);
-  return across_at(dP, a, dP - a * wl);
+  if ((FLAGS & SHADOWS_ISG_ORIENTED) == 0u) return sqrt(max(dot(dP, dP) - a * a, 0.0));  // unit wl
+  return length(dP - a * wl);
 }
 
 // Eq. 6-7 without inShadow: a gaussian of the world distance l (scene_radius units), from
@@ -206,31 +202,58 @@ float search(Recv R, uvec2 p, uint i, float Rp) { return search_mean(search_sums
 // the emitter's, the inverse square; n_l = wl for a sphere light, whose disk faces p_0). Under a
 // low light its top lights a floor several times as much as its bottom, and the part below the
 // receiver's horizon not at all. 1 where the receiver's normal is unknown.
-float irradiance(Recv R, vec3 cs, float Rs) {
-  if (R.n == vec3(0.0)) return 1.0;
-  vec3 r = R.D * R.wl + cs * (pc.light_size / max(Rs, 1e-30));
-  float q = R.D * R.D / dot(r, r);
+// In the gather's loop (issue 18) the weight is taken apart: n·r = D·(n·wl) + k·(n·dP − a·(n·wl))
+// with k = L / R_s and a = along(dP, wl), and |r|² / D² = 1 + 2k·(wl·cs) / D + k²·|cs|² / D²
+// (wl·cs = 0 for a sphere light), so that a tap costs a dot product and a division; Irr holds
+// what is the same for every tap of one gather. lib/effects/shadows/isg.cpp keeps the formula.
+struct Irr {
+  vec3 nk;               // k·n (0 where n is unknown)
+  float A, kcn, inv, kk, k2D, k, nlw;
+  bool hn;               // n is known (else every weight is 1)
+};
+Irr irradiance_setup(Recv R, float Rs) {
+  Irr I;
+  I.k = pc.light_size / max(Rs, 1e-30);
+  bool hn = R.n != vec3(0.0);
+  I.hn = hn;
+  float cn = dot(R.n, R.wl);
+  I.nk = I.k * R.n;
+  I.A = hn ? R.D * cn : 1.0;
+  I.kcn = I.k * cn;
+  I.inv = hn ? 1.0 / (R.D * max(cn, SHADOWS_ISG_MIN_CN)) : 1.0;
+  I.kk = hn ? I.k * I.k / (R.D * R.D) : 0.0;
+  I.k2D = hn ? 2.0 * I.k / R.D : 0.0;
+  I.nlw = dot(vec3(pc.light_nx, pc.light_ny, pc.light_nz), R.wl);
+  return I;
+}
+// The weight of the tap at dP (a = along(dP, wl), cs = dP − a·wl, l2 = |cs|²).
+float irradiance(Irr I, Recv R, vec3 dP, float a, vec3 cs, float l2) {
+  float num = max(I.A + dot(I.nk, dP) - a * I.kcn, 0.0);
+  float rr = 1.0 + I.kk * l2;
   float e = 1.0;
-  if ((FLAGS & SHADOWS_ISG_ORIENTED) != 0u) {
+  if ((FLAGS & SHADOWS_ISG_ORIENTED) != 0u && I.hn) {
     vec3 nl = vec3(pc.light_nx, pc.light_ny, pc.light_nz);
-    e = abs(dot(nl, r)) / (R.D * max(abs(dot(nl, R.wl)), SHADOWS_ISG_MIN_COS));
+    rr += I.k2D * dot(R.wl, cs);
+    e = abs(R.D * I.nlw + I.k * dot(nl, cs)) / (R.D * max(abs(I.nlw), SHADOWS_ISG_MIN_COS));
   }
-  return max(dot(R.n, r), 0.0) / (R.D * max(dot(R.n, R.wl), SHADOWS_ISG_MIN_CN)) * e * q * q;
+  return num * I.inv * e / (rr * rr);
 }
 
 // Gather (eq. 4) over the shadow bits: over the points within R_s of p_0 across the light
 // direction (a one-pixel ramp at the rim), each weighed by its light point's irradiance
 // (irradiance()): on the receiver, the penumbra's footprint, stretched by 1 / cos θ_i; on
-// grazing receivers the screen disk, which reaches far along the surface, is cut back to it. The gaussian of eq. 6 as range function. Bilinear taps, here and
-// in the search: the shadow bits are a binary signal, and point taps of them alias (issue 18:
-// isg-synth contact's error rose 40 % with point taps in the gather, shared contact's 7 % at 9
-// search samples with point taps in the search).
+// grazing receivers the screen disk, which reaches far along the surface, is cut back to it.
+// The gaussian of eq. 6 as range function. Bilinear taps, here and in the search: the shadow
+// bits are a binary signal, and point taps of them alias (issue 18: isg-synth contact's error
+// rose 40 % with point taps in the gather, shared contact's 7 % at 9 search samples with point
+// taps in the search).
 vec2 gather_sums(Recv R, uvec2 p, uint i, float Rs, uint part, uint parts) {
   float sum = part == 0u ? texelFetch(shadow_in, int(i)).r : 0.0, ws = part == 0u ? 1.0 : 0.0;
   vec2 p0 = vec2(p + uvec2(pc.origin & 0xffffu, pc.origin >> 16)) + 0.5;
   ivec2 org = ivec2(pc.origin & 0xffffu, pc.origin >> 16);
   uint grid_search = pc.grids & 0xffffu, grid_gather = pc.grids >> 16;
   mat2 Rog = lattice(p, R, Rs * R.inv_pix);
+  Irr I = irradiance_setup(R, Rs);
   for (uint k = part; k < grid_gather * grid_gather; k += parts) {
     vec2 x = p0 + Rog * texelFetch(samples, int(grid_search * grid_search + k)).xy - 0.5;
     vec2 x0 = floor(x), f = x - x0;
@@ -241,11 +264,13 @@ vec2 gather_sums(Recv R, uvec2 p, uint i, float Rs, uint part, uint parts) {
       vec4 Tt = texelFetch(pack, int(xx.y * int(pc.width) + xx.x));
       if (!foreground(Tt)) continue;
       vec3 dP = Tt.xyz - R.P0;
-      float a = along(dP, R.wl);
+      float a = along(dP, R.wl), dd = dot(dP, dP);
       vec3 cs = dP - a * R.wl;
-      float l = across_at(dP, a, cs);
+      float l2 = (FLAGS & SHADOWS_ISG_ORIENTED) == 0u ? max(dd - a * a, 0.0) : dot(cs, cs);
+      float l = sqrt(l2);
       float bw = ((j & 1) != 0 ? f.x : 1.0 - f.x) * ((j >> 1) != 0 ? f.y : 1.0 - f.y);
-      float r = range_l2(dot(dP, dP)) * clamp((Rs + 0.5 * R.pix - l) * R.inv_pix, 0.0, 1.0) * bw * irradiance(R, cs, Rs);
+      float r = range_l2(dd) * clamp((Rs + 0.5 * R.pix - l) * R.inv_pix, 0.0, 1.0) * bw *
+                irradiance(I, R, dP, a, cs, l2);
       sum += r * Tt.w;
       ws += r;
     }
