@@ -387,8 +387,12 @@ TEST_F(Vssm, MapMethodsKeepTheUmbraOfASlopedReceiver) {
   const auto map = pl.shadowmap();
   const auto in = pl.inputs();
   const size_t n = in.fg.size();
-  std::vector<double> truth(n);
-  for (size_t i = 0; i < n; ++i) truth[i] = pl.visible(in, i);
+  std::vector<double> truth(n), uniform(n);
+  for (size_t i = 0; i < n; ++i) {
+    truth[i] = pl.visible(in, i);
+    const double x = in.position[i], z = -double(in.position[2 * n + i]);
+    uniform[i] = isg::synth::disk_visible_fraction(-x * pl.d_o / (z - pl.d_o), pl.R);
+  }
   for (const char* method : {"pcss", "vssm"}) {
     auto s = pl.settings(64, "stratified", method);
     s.scene_radius = 4.0;
@@ -396,10 +400,11 @@ TEST_F(Vssm, MapMethodsKeepTheUmbraOfASlopedReceiver) {
     const auto got = isg::test::run_gpu(ctx(), in, map, s, &st);
     const auto want = std::string(method) == "pcss" ? fx::pcss_reference(in, map, s, nullptr)
                                                    : fx::vssm_reference(in, map, s, nullptr);
-    double se = 0, umbra_max = 0, md = 0;
+    double se = 0, su = 0, umbra_max = 0, md = 0;
     size_t umbra = 0;
     for (size_t i = 0; i < n; ++i) {
       se += (got[i] - truth[i]) * (got[i] - truth[i]);
+      su += (got[i] - uniform[i]) * (got[i] - uniform[i]);
       if (truth[i] == 0.0) {
         ++umbra;
         umbra_max = std::max(umbra_max, double(got[i]));
@@ -407,13 +412,17 @@ TEST_F(Vssm, MapMethodsKeepTheUmbraOfASlopedReceiver) {
     }
     const double rmse = std::sqrt(se / double(n));
     const size_t bad = isg::test::mismatches(got, want, &md);
-    std::printf("sloped receiver, %s: RMSE %.4f against the closed form, %zu umbra pixels, lightest "
-                "%.4f; GPU and reference differ at %zu (max %.4f)\n",
-                method, rmse, umbra, umbra_max, bad, md);
+    const double rmse_u = std::sqrt(su / double(n));
+    std::printf("sloped receiver, %s: RMSE %.4f against the closed form (%.4f against the uniform "
+                "fraction), %zu umbra pixels, lightest %.4f; GPU and reference differ at %zu (max %.4f)\n",
+                method, rmse, rmse_u, umbra, umbra_max, bad, md);
     EXPECT_GT(umbra, n / 8);
     EXPECT_LE(bad, n / 100) << method;
     EXPECT_LE(rmse, 0.035) << method;
     EXPECT_LE(umbra_max, 0.1) << method;
+    // PCSS weighs its taps by irradiance: nearer the weighted share than the uniform fraction
+    // (measured 0.0079 against 0.0209; with its taps weighed alike, 0.0082 against the uniform).
+    if (std::string(method) == "pcss") EXPECT_LT(rmse, 0.5 * rmse_u);
   }
 }
 
