@@ -422,7 +422,9 @@ TEST_F(Vssm, MapMethodsKeepTheUmbraOfASlopedReceiver) {
     EXPECT_LE(umbra_max, 0.1) << method;
     // PCSS weighs its taps by irradiance: nearer the weighted share than the uniform fraction
     // (measured 0.0079 against 0.0209; with its taps weighed alike, 0.0082 against the uniform).
-    if (std::string(method) == "pcss") EXPECT_LT(rmse, 0.5 * rmse_u);
+    if (std::string(method) == "pcss") {
+      EXPECT_LT(rmse, 0.5 * rmse_u);
+    }
   }
 }
 
