@@ -65,7 +65,11 @@ ISG_IO_BEGIN
 // nothing's): a cap of 5 gave grazing 0.42, lowlight 0.515, shared rowdepth 0.209; 2 gave 0.38,
 // 0.519, 0.201; no stretch 0.35, 0.551, 0.187. With the search's occluder distances taken from
 // p_0 (SHADOWS_ISG_REACH 1.5), 4 gave grazing 0.360, lowlight 0.497, rowdepth 0.218 against 2's
-// 0.351, 0.501, 0.206.
+// 0.351, 0.501, 0.206. With the gather's irradiance weights (REACH 1.75), 3 gave shared contact
+// 0.349, rowdepth 0.200, grazing 0.343, lowlight 0.491, far1e5 0.374 against 2's 0.352, 0.200,
+// 0.345, 0.499, 0.373 (4: 0.349, 0.204, 0.346, 0.492), but the closed forms lost: the parallel
+// planes under a light 18° beside the edge 0.0068 -> 0.0141 (the ellipse's samples spread along
+// the light, where the penumbra does not change), the upright edge 0.0127 -> 0.0139; kept at 2.
 #define SHADOWS_ISG_MAX_STRETCH 2.0
 // Settings of shadows.isg: its specialization constant 0 (SHADOWS_ISG_HAS_POSITION alone that of
 // shadows.isg.tiles; SHADOWS_ISG_TILE_SKIP the list's push constant).
