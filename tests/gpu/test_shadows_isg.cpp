@@ -100,6 +100,18 @@ fx::ShadowInputs lit_frame(int w, int h, bool with_position) {
   return in;
 }
 
+// lit_frame of the floor z = 0 as `view` sees it (P at each pixel's floor position).
+fx::ShadowInputs floor_frame(const DownView& view) {
+  fx::ShadowInputs in = lit_frame(view.w, view.h, true);
+  const size_t n = size_t(view.w) * view.h;
+  for (int y = 0; y < view.h; ++y)
+    for (int x = 0; x < view.w; ++x) {
+      in.position[size_t(y) * view.w + x] = float(view.px(x));
+      in.position[n + size_t(y) * view.w + x] = float(view.py(y));
+    }
+  return in;
+}
+
 // Parallel planes: a disk light of radius R at height H facing down over the receiver z = 0,
 // an occluding half-plane x' < 0 at height h (invisible to the camera), the camera at height 6
 // looking straight down. A light point (lx, ly, H) is visible from (x, y, 0) iff the segment
@@ -539,16 +551,13 @@ TEST_F(ShadowsIsg, UprightEdgeUnderALowLightKeepsTheClosedForm) {
   const double L[3] = {3.0, 6.0, 1.5}, r = 0.6;
   const auto cam = view.camera();
   const auto light = sphere_light(L, r);
-  fx::ShadowInputs in = lit_frame(w, h, true);
+  fx::ShadowInputs in = floor_frame(view);
   const size_t n = size_t(w) * h;
   std::vector<double> exact(n, 1.0);
   for (int y = 0; y < h; ++y)
     for (int x = 0; x < w; ++x) {
       const size_t i = size_t(y) * w + x;
       const double px = view.px(x), py = view.py(y);
-      in.position[i] = float(px);
-      in.position[n + i] = float(py);
-      in.position[2 * n + i] = 0.0f;
       const double dx = L[0] - px, dy = L[1] - py, D = std::sqrt(dx * dx + dy * dy + L[2] * L[2]);
       if (py >= 0.0) continue;  // in front of the wall: lit
       const double s = -py / dy;  // the ray to the light's centre meets y = 0 here
@@ -595,16 +604,13 @@ TEST_F(ShadowsIsg, LowWallKeepsTheIrradianceWeightedShare) {
   const double L[3] = {3.0, 0.3, 2.0}, r = 0.6, hw = 0.5;
   const auto cam = view.camera();
   const auto light = sphere_light(L, r);
-  fx::ShadowInputs in = lit_frame(w, h, true);
+  fx::ShadowInputs in = floor_frame(view);
   const size_t n = size_t(w) * h;
   std::vector<double> weighted(n, 1.0), uniform(n, 1.0);
   for (int y = 0; y < h; ++y)
     for (int x = 0; x < w; ++x) {
       const size_t i = size_t(y) * w + x;
       const double px = view.px(x), py = view.py(y);
-      in.position[i] = float(px);
-      in.position[n + i] = float(py);
-      in.position[2 * n + i] = 0.0f;
       if (px >= 0.0) continue;  // in front of the wall: lit
       const double dx = L[0] - px, dy = L[1] - py, D = std::sqrt(dx * dx + dy * dy + L[2] * L[2]);
       const double s = -px / dx;  // the ray to the light's centre meets x = 0 here, at height s·L_z
