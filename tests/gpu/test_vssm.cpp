@@ -426,6 +426,37 @@ TEST_F(Vssm, MapMethodsKeepTheUmbraOfASlopedReceiver) {
       EXPECT_LT(rmse, 0.5 * rmse_u);
     }
   }
+  // The same scene with the light's frame turned 90 degrees about its axis (the map's u along
+  // world y, its v along world −x): the slope now runs along the map's rows, whose sign
+  // sm_irradiance flips (v points down), so a wrong sign there shows here and not above. The
+  // map turns with it: texel (i, j) is the first map's (j, map − 1 − i). Then a sphere light
+  // (its disk facing each receiver, ShadowmapSettings::facing), GPU against the reference.
+  std::vector<float> zr(map.z.size());
+  for (int j = 0; j < pl.map; ++j)
+    for (int i = 0; i < pl.map; ++i) zr[size_t(j) * pl.map + i] = map.z[size_t(pl.map - 1 - i) * pl.map + j];
+  const auto turned = fx::make_shadowmap(pl.map, pl.map, std::move(zr));
+  for (const bool facing : {false, true}) {
+    auto s = pl.settings(64, "stratified", "pcss");
+    s.scene_radius = 4.0;
+    s.facing = facing;
+    s.world_to_light = isg::io::identity4();
+    s.world_to_light[0] = 0.0, s.world_to_light[1] = 1.0, s.world_to_light[4] = -1.0, s.world_to_light[5] = 0.0;
+    const auto got = isg::test::run_gpu(ctx(), in, turned, s, nullptr);
+    double md = 0, se = 0, su = 0;
+    const size_t bad = isg::test::mismatches(got, fx::pcss_reference(in, turned, s, nullptr), &md);
+    for (size_t i = 0; i < n; ++i) {
+      se += (got[i] - truth[i]) * (got[i] - truth[i]);
+      su += (got[i] - uniform[i]) * (got[i] - uniform[i]);
+    }
+    const double rmse = std::sqrt(se / double(n)), rmse_u = std::sqrt(su / double(n));
+    std::printf("sloped receiver, pcss, light's frame turned, %s: RMSE %.4f against the closed form "
+                "(%.4f against the uniform fraction); GPU and reference differ at %zu (max %.4f)\n",
+                facing ? "sphere light" : "disk light", rmse, rmse_u, bad, md);
+    EXPECT_LE(bad, n / 100) << facing;
+    if (!facing) {
+      EXPECT_LT(rmse, 0.5 * rmse_u);
+    }
+  }
 }
 
 // Receivers beyond the map's farthest surface: an occluder half-plane at depth 2, a wall at depth

@@ -151,8 +151,8 @@ Image render_shadowmap(const Scene& scene, int size);  // channel Z
 Image render_softshadow(const Scene& scene, const Options& opts, int spp);
 // key.softshadow from the closed form (parallel-planes only; throws otherwise).
 Image render_softshadow_closed_form(const Scene& scene, const Options& opts);
-// Closed form: the visible fraction of a disk of radius R whose part beyond a chord at signed
-// distance d from its centre is hidden (d ≥ R: all visible, d ≤ −R: all hidden).
+// Closed form: the fraction of a disk of radius R beyond a chord at signed distance d from its
+// centre, {x > d} (d ≥ R: 0, d ≤ −R: 1): the visible part where the rest is hidden.
 double disk_visible_fraction(double d, double R);
 // The share of the irradiance a receiver at p with normal n gets from a light disk (centre
 // `centre`, orthonormal in-plane axes u and v, radius R, emitting from both faces) that comes from
