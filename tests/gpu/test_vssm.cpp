@@ -390,8 +390,7 @@ TEST_F(Vssm, MapMethodsKeepTheUmbraOfASlopedReceiver) {
   std::vector<double> truth(n), uniform(n);
   for (size_t i = 0; i < n; ++i) {
     truth[i] = pl.visible(in, i);
-    const double x = in.position[i], z = -double(in.position[2 * n + i]);
-    uniform[i] = isg::synth::disk_visible_fraction(-x * pl.d_o / (z - pl.d_o), pl.R);
+    uniform[i] = pl.visible_uniform(in, i);
   }
   for (const char* method : {"pcss", "vssm"}) {
     auto s = pl.settings(64, "stratified", method);

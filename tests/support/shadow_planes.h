@@ -60,22 +60,26 @@ struct Planes {
       }
     return in;
   }
-  // Closed form for the receiver at P = (x, y, −z): the part of the light's disk (radius R in
-  // the plane z = 0) seen past the edge (the line from the receiver through the edge meets the
-  // light's plane at c), as its share of the receiver's irradiance (the receiver's cosine, the
-  // disk's, the inverse square: what a renderer's soft shadow is; isg-synth's quadrature).
-  double visible(const float* P) const {
-    const double x = P[0], z = z_r + slope * x, c = (edge * z - x) * d_o / (z - d_o);
-    if (c >= R) return 0.0;
-    if (c <= -R) return 1.0;
-    const double ns = std::sqrt(1.0 + slope * slope);
-    return isg::synth::disk_irradiance_beyond_chord({x, double(P[1]), -z}, {slope / ns, 0.0, 1.0 / ns}, {0, 0, 0},
-                                                    {1, 0, 0}, {0, 1, 0}, R, c);
+  // Receiver i at (x, y, −z) on its plane: the line from it through the edge meets the light's
+  // plane z = 0 at x = c; the light points beyond (x > c) are the ones it sees.
+  double chord(double x) const {
+    const double z = z_r + slope * x;
+    return (edge * z - x) * d_o / (z - d_o);
   }
+  // Closed form: the part of the light's disk (radius R) seen past the edge, as its share of
+  // receiver i's irradiance (the receiver's cosine, the disk's, the inverse square: what a
+  // renderer's soft shadow is; isg-synth's quadrature).
   double visible(const fx::ShadowmapInputs& in, size_t i) const {
     const size_t n = size_t(in.w) * size_t(in.h);
-    const float P[3] = {in.position[i], in.position[n + i], in.position[2 * n + i]};
-    return visible(P);
+    const double x = in.position[i], c = chord(x), ns = std::sqrt(1.0 + slope * slope);
+    if (c >= R) return 0.0;
+    if (c <= -R) return 1.0;
+    return isg::synth::disk_irradiance_beyond_chord({x, double(in.position[n + i]), -(z_r + slope * x)},
+                                                    {slope / ns, 0.0, 1.0 / ns}, {0, 0, 0}, {1, 0, 0}, {0, 1, 0}, R, c);
+  }
+  // The same part as the plain fraction of the disk (every light point weighed alike).
+  double visible_uniform(const fx::ShadowmapInputs& in, size_t i) const {
+    return isg::synth::disk_visible_fraction(chord(in.position[i]), R);
   }
   fx::ShadowmapSettings settings(int taps, const std::string& pattern,
                                  const std::string& method = "pcss") const {

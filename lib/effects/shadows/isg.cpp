@@ -107,9 +107,11 @@ struct Ctx {
   }
   // The distance in the penumbra's cross-section: d projected along the light direction wl onto
   // the plane across the ray (sphere lights) or onto the light's own plane (disk and rect).
-  double across(V3 d, V3 wl) const {
+  double across(V3 d, V3 wl) const { return len3(cross_section(d, wl)); }
+  // d's offset in that cross-section: d − along(d, wl)·wl.
+  V3 cross_section(V3 d, V3 wl) const {
     const double t = along(d, wl);
-    return len3({d[0] - t * wl[0], d[1] - t * wl[1], d[2] - t * wl[2]});
+    return {d[0] - t * wl[0], d[1] - t * wl[1], d[2] - t * wl[2]};
   }
   // A tap's share of p_0's irradiance relative to the light's centre (the shader's
   // irradiance()): the tap at cross-section offset cs stands for the light point
@@ -287,8 +289,7 @@ std::vector<float> shadows_isg_reference(const ShadowInputs& in, const ShadowSet
           for (int j = 0; j < 4; ++j) {
             if (bw[j] == 0.0 || !c.fg(t[j])) continue;
             const V3 dP = sub(c.position(t[j]), R.P0);
-            const double a = c.along(dP, R.wl);
-            const V3 cs = {dP[0] - a * R.wl[0], dP[1] - a * R.wl[1], dP[2] - a * R.wl[2]};
+            const V3 cs = c.cross_section(dP, R.wl);
             const double l = len3(cs);
             const double r = c.range_l(len3(dP)) * std::clamp((Rs + 0.5 * R.pix - l) / R.pix, 0.0, 1.0) * bw[j] *
                              c.irradiance(R.inc.n, R.wl, R.D, cs, Rs);

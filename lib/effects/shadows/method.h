@@ -99,10 +99,13 @@ struct Geom {
     if (found < 2) return {0, 0, spread, s.slope_max};
     const V3 nr = {t[0][1] * t[1][2] - t[0][2] * t[1][1], t[0][2] * t[1][0] - t[0][0] * t[1][2],
                    t[0][0] * t[1][1] - t[0][1] * t[1][0]};
-    if (normal) {
+    if (normal) {  // unit, on the light's side
       const double ln = std::sqrt(nr[0] * nr[0] + nr[1] * nr[1] + nr[2] * nr[2]);
       const double tl = nr[0] * (light_pos[0] - P[0]) + nr[1] * (light_pos[1] - P[1]) + nr[2] * (light_pos[2] - P[2]);
-      if (ln > 0) *normal = {nr[0] / ln * (tl < 0 ? -1 : 1), nr[1] / ln * (tl < 0 ? -1 : 1), nr[2] / ln * (tl < 0 ? -1 : 1)};
+      if (ln > 0) {
+        const double k = (tl < 0 ? -1.0 : 1.0) / ln;
+        *normal = {nr[0] * k, nr[1] * k, nr[2] * k};
+      }
     }
     if (s.has_camera) {
       auto dot_to = [&](const std::array<double, 3>& X) {
