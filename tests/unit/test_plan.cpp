@@ -136,14 +136,22 @@ TEST(Plan, AutoShadowMethodPicksPcssOrIsgFromThePixels) {
   std::printf("grazing: %s (%s)\n", st.method.c_str(), st.why.c_str());
   EXPECT_EQ(st.method, "isg");
   EXPECT_NE(st.why.find("grazes"), std::string::npos);
-  // A shadow-map method named there runs as asked, with a note; overhead, none.
+  // A shadow-map method named there runs as asked, with a note.
   for (const char* m : {"pcss", "vssm", "cssm"}) {
     st = auto_status(grazing, m);
     std::printf("grazing, %s named: %s (%s)\n", m, st.method.c_str(), st.why.c_str());
     EXPECT_TRUE(st.runs);
     EXPECT_EQ(st.method, m);
     EXPECT_EQ(st.why.rfind("note: shadows.method=auto would take isg here: the light grazes", 0), 0u) << m;
-    EXPECT_EQ(auto_status(overhead, m).why, "") << m;
+  }
+  // Overhead: pcss named runs without a note; vssm and cssm named, with one for pcss.
+  EXPECT_EQ(auto_status(overhead, "pcss").why, "");
+  for (const char* m : {"vssm", "cssm"}) {
+    st = auto_status(overhead, m);
+    std::printf("overhead, %s named: %s (%s)\n", m, st.method.c_str(), st.why.c_str());
+    EXPECT_TRUE(st.runs);
+    EXPECT_EQ(st.method, m);
+    EXPECT_EQ(st.why.rfind("note: shadows.method=auto would take pcss here: the light stands", 0), 0u) << m;
   }
 
   // Far from the origin: isg once float32 positions step by more than a map texel there, pcss

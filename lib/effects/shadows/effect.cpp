@@ -164,8 +164,10 @@ class Shadows final : public Effect {
   }
 
   // shadows.method = auto: each light's method from the frame's pixels. A shadow-map method
-  // named explicitly where auto would take isg (a grazing light, a scene far from the origin)
-  // runs as asked, with a note saying why isg would suit the frame better (issue 19).
+  // named explicitly where auto would take another runs as asked, with a note saying which and
+  // why (issue 19): isg (a grazing light, a scene far from the origin), or pcss where vssm or
+  // cssm is named (on every Cycles case where auto takes pcss, pcss had the lowest error of the
+  // map's methods: docs/benchmark/shadow_cases.md).
   void choose(const PlanContext& c, const io::Image& img, Choices& out) const override {
     const std::string m = c.p.get(shadow_keys::method);
     const bool map_method = m == "pcss" || m == "vssm" || m == "cssm";
@@ -175,6 +177,10 @@ class Shadows final : public Effect {
       if (map_method) {
         if (a.method == "isg")
           out["shadows[" + l + "]/note"] = "shadows.method=auto would take isg here: " + a.why;
+        else if (a.method == "pcss" && m != "pcss")
+          out["shadows[" + l + "]/note"] =
+              "shadows.method=auto would take pcss here: " + a.why +
+              " (the lowest error of the map's methods on every Cycles case where auto takes it)";
         continue;
       }
       out["shadows[" + l + "]"] = a.method;
