@@ -120,11 +120,20 @@ L = ["# Scaling", "",
      "machine). GPU times from timestamp queries; wall times of the whole `isg run` process (pixel "
      "rows: without --timings, best of 2, alternated with oiiotool).", "",
      "## Pixel count (the default preset: shadows isg and reflections isg)", "",
-     "| size | pieces (tiles the device's limits need) | GPU ms | wall s | oiiotool copy s (I/O floor) | wall / floor |",
-     "|---|---|---|---|---|---|"]
+     "| size | pieces (tiles the device's limits need) | GPU ms | GPU ms a megapixel | wall s | oiiotool copy s (I/O floor) | wall / floor |",
+     "|---|---|---|---|---|---|---|"]
 for r in R["pixels"]:
-    L.append(f"| {r['w']}x{r['h']} | {r.get('pieces', 1)} | {r['gpu_ms']:.0f} | {r['wall_s']:.2f} | "
+    L.append(f"| {r['w']}x{r['h']} | {r.get('pieces', 1)} | {r['gpu_ms']:.0f} | "
+             f"{r['gpu_ms'] / (r['w'] * r['h'] * 1e-6):.0f} | {r['wall_s']:.2f} | "
              f"{r['oiiotool_s']:.2f} | {r['wall_s'] / r['oiiotool_s']:.1f} |")
+L += ["", "The GPU time a megapixel falls with the size (the passes' fixed costs are shared by more "
+      "pixels; the tiles with no shadow boundary are skipped at every size). Wall times include the "
+      "first touch of the run's memory: on lavapipe the GPU buffers are host memory, 1.4 GB at "
+      "3840x2160. A virtual machine whose balloon hands freed memory back to its host (virtio-balloon "
+      "free page reporting, as on the machine of 2026-11-28) charges each first touch of such memory: "
+      "there 3000 MB took 6.1 s to touch, 2.1 s again at once, 6.2 s after 45 s idle (about 2 ms a MB "
+      "against 0.7). The 3840x2160 row pays it in its upload (3.3 s; 0.6 s right after another "
+      "process had touched 8 GB) and download: wall 6.5 s against the floor's 4.3 s then, 1.5x."]
 for r in R["pixels"]:
     if "tiled" in r:
         tr = r["tiled"]
