@@ -1,443 +1,62 @@
 #version 450
-// Pass shadows.isg (paper §3.1): per pixel, the parameter search over occluder distances (eq. 4
-// with the range function of eq. 6-7, radius R_p of eq. 5) then the gather over the shadow bits
-// (eq. 4 with radius R_g of eq. 8-9). lib/effects/shadows/isg.cpp mirrors every step in double.
+// Pass shadows.isg (paper §3.1; method isg, step 5 of 6): a lane per pixel of the listed tiles
+// that do not take the cheap path. The pixel takes its quad representative's mean occluder
+// distance (shadows.isg.quads) unless it lies on another surface (eq. 6 weight under
+// SHADOWS_ISG_QUAD_SAME), then its penumbra (eq. 8-9: R_s in the world, R_g in pixels at the
+// receiver's depth): a wide one from the quads' gathers around it (reuse()), where they can lend
+// it. A pixel that searches or gathers for itself joins the list shadows.isg.own finishes: on
+// lavapipe every lane would run, masked, the loops of the few that need them. The hard shadow
+// stands where no occluder is within reach. lib/effects/shadows/isg.cpp mirrors every step in
+// double; shaders/shadows_isg.h holds what the dispatches share.
 #extension GL_GOOGLE_include_directive : require
-#include "shadows_isg_io.h"
-#include "isg_sampling.h"
+#extension GL_KHR_shader_subgroup_arithmetic : require
+#extension GL_KHR_shader_subgroup_basic : require
+#include "shadows_isg.h"
 layout(local_size_x = SHADOWS_ISG_TILE, local_size_y = SHADOWS_ISG_TILE) in;
-// Inputs are texel views (lavapipe gathers texels as vectors; gpu.h's Slot::texels).
-layout(binding = 0) uniform samplerBuffer pack;  // P − eye, L.shadow (shadows.isg.tiles)
-layout(binding = 1) uniform samplerBuffer occluder;
-layout(std430, binding = 2) buffer Tiles { uint tiles[]; };
-layout(std430, binding = 3) writeonly buffer Soft { float soft[]; };
-// The search lattice (grid_s² entries) then the gather lattice (grid_g²): concentric-disk
-// points made on the host, (x, y) of each texel.
-layout(binding = 4) uniform samplerBuffer samples;
-layout(binding = 5) uniform samplerBuffer shadow_in;  // for the background
-layout(push_constant) uniform Push { ShadowsIsgPush pc; };
-// SHADOWS_ISG_* settings: compiled in, not branched on (gpu::Kernel).
-layout(constant_id = 0) const uint FLAGS = 0u;
-
-const float PI = 3.14159265358979;
-shared uint s_rp;     // the tile's largest search radius (float bits)
-shared uint s_reach;  // OR of the flags of the tiles within reach
-shared uint s_dloc;   // the largest occluder distance of the tiles within reach (float bits)
-// The tile's statistics (SHADOWS_ISG_STAT_* from CLAMPED on), added to the image's once per tile
-// rather than once per pixel (same-address atomics serialise on a GPU).
-shared uint s_stat[SHADOWS_ISG_STATS];
-// The search and the wide gathers at half resolution (issue 18): per 2×2 quad of the tile, its
-// first foreground pixel (the representative) searches, and gathers where its radius R_g is at
-// least SHADOWS_ISG_REUSE_RADIUS.
-#define QUADS (SHADOWS_ISG_TILE / 2u)
-#define NO_REP 0xffffffffu
-shared uint q_rep[QUADS * QUADS];  // the representative's index, or NO_REP
-shared float q_d[QUADS * QUADS];   // its mean occluder distance (eq. 4, 6, 7), < 0: none in reach
-shared vec2 q_g[QUADS * QUADS];    // its gather (eq. 4) and R_g; R_g < 0: no wide gather
-#define QUAD_PARTS 4u  // lanes per quad in the quads' phase (SHADOWS_ISG_TILE² / QUADS²)
-shared vec2 q_part[QUAD_PARTS][QUADS * QUADS];  // their partial sums (search, then wide gather)
-
-mat3 rot() {  // world -> camera; GLSL matrices are column-major
-  return mat3(pc.r00, pc.r10, pc.r20, pc.r01, pc.r11, pc.r21, pc.r02, pc.r12, pc.r22);
-}
-vec3 light() { return vec3(pc.light_x, pc.light_y, pc.light_z); }  // light − eye
-bool foreground(vec4 t) { return t.w > 0.5 * SHADOWS_ISG_BACKGROUND; }
-
-// P's screen derivative at pixel p along e (one-sided next to a silhouette): receiver() takes
-// the receiver's normal from two of them.
-vec3 axis_diff(uvec2 p, vec3 P0, uvec2 e) {
-  uvec2 a = p - e, b = p + e;
-  vec4 ta = p.x >= e.x && p.y >= e.y ? texelFetch(pack, int(a.y * pc.width + a.x)) : vec4(SHADOWS_ISG_BACKGROUND);
-  vec4 tb = b.x < pc.width && b.y < pc.height ? texelFetch(pack, int(b.y * pc.width + b.x)) : vec4(SHADOWS_ISG_BACKGROUND);
-  bool ha = foreground(ta), hb = foreground(tb);
-  vec3 f = hb ? tb.xyz - P0 : vec3(0.0);
-  vec3 g = ha ? P0 - ta.xyz : vec3(0.0);
-  if (ha && hb) {
-    float lf = length(f), lg = length(g);
-    if (max(lf, lg) < 2.0 * min(lf, lg)) return f + g;
-    return lf < lg ? f : g;
-  }
-  return ha ? g : f;
-}
-
-// The distance along the light's direction wl that across() takes off dP, the depth at which
-// the penumbra's cross-section is measured: an occluder at distance d from a point dP away from
-// p_0 lies d + along(dP, wl) from p_0 (sphere lights: along the ray; disk and rect lights: up to
-// the plane through dP parallel to the light's, so that an occluder parallel to the light keeps
-// its distance).
-float along(vec3 dP, vec3 wl) {
-  if ((FLAGS & SHADOWS_ISG_ORIENTED) == 0u) return dot(dP, wl);
-  vec3 n = vec3(pc.light_nx, pc.light_ny, pc.light_nz);
-  float c = dot(wl, n);
-  c = c < 0.0 ? min(c, -SHADOWS_ISG_MIN_COS) : max(c, SHADOWS_ISG_MIN_COS);
-  return dot(dP, n) / c;
-}
-
-// The distance from p_0 in the penumbra's cross-section: dP projected along the light direction
-// wl onto the plane across the ray (sphere lights: the silhouette faces every receiver) or onto
-// the light's own plane (disk and rect lights).
-float across(vec3 dP, vec3 wl) {
-  float a = along(dP, wl);
-  if ((FLAGS & SHADOWS_ISG_ORIENTED) == 0u) return sqrt(max(dot(dP, dP) - a * a, 0.0));  // unit wl
-  return length(dP - a * wl);
-}
-
-// Eq. 6-7 without inShadow: a gaussian of the world distance l (scene_radius units), from
-// l² = |dP|² (no square root).
-float range_l2(float l2) { return exp(-l2 * (pc.inv_scene_radius * pc.inv_scene_radius * pc.inv_sigma)); }
-// Eq. 6-7's weight between pixel j's position and P0 (both P − eye).
-float same_surface(uint j, vec3 P0) {
-  vec3 d = texelFetch(pack, int(j)).xyz - P0;
-  return range_l2(dot(d, d));
-}
-// Eq. 8: the penumbra radius R_s on the receiver for an occluder at d, the light at D.
-float penumbra(float d, float D) { return pc.light_size * d / max(D - d, SHADOWS_ISG_MIN_GAP * D); }
-
-// A foreground receiver: its position (P − eye), distance to the light, direction to it, the
-// world size of a pixel there (Camera::pixel_size_at) shrunk by c = cos θ_i (the receiver's
-// normal from P's screen derivatives, one-sided next to a silhouette; c at least
-// 1 / SHADOWS_ISG_MAX_STRETCH), and the screen direction `dir` of the light's direction projected onto
-// the receiver. The penumbra's footprint on the receiver (the disk of radius R_s across the ray,
-// projected along it) is an ellipse: R_s / c along that direction, R_s across it (issue 19).
-struct Recv {
-  vec3 P0, wl, n;  // n: the receiver's normal on the light's side, 0 where P gives none
-  float D, pix, inv_pix, c;
-  vec2 dir;
-};
-Recv receiver(uvec2 p, vec3 P0) {
-  Recv R;
-  R.P0 = P0;
-  vec3 cc = rot() * P0;
-  float z = max(-cc.z, 1e-6);
-  R.D = length(light() - P0);
-  R.wl = (light() - P0) / max(R.D, 1e-20);
-  R.c = 1.0;
-  R.dir = vec2(1.0, 0.0);
-  R.n = vec3(0.0);
-  vec3 n = cross(axis_diff(p, P0, uvec2(1u, 0u)), axis_diff(p, P0, uvec2(0u, 1u)));
-  float ln = length(n);
-  if (ln > 0.0) {
-    n /= ln;
-    R.n = dot(n, R.wl) < 0.0 ? -n : n;
-    R.c = max(abs(dot(n, R.wl)), 1.0 / SHADOWS_ISG_MAX_STRETCH);
-    // The screen image of t = wl − (wl·n) n at P0 (the derivative of the projection).
-    vec3 dc = rot() * (R.wl - dot(R.wl, n) * n);
-    vec2 d = vec2(dc.z * cc.x - cc.z * dc.x, cc.z * dc.y - dc.z * cc.y);
-    if (dot(d, d) > 1e-20) R.dir = normalize(d);
-  }
-  R.pix = z / pc.f_px * R.c;
-  R.inv_pix = 1.0 / R.pix;
-  return R;
-}
-// The sample lattice at p for a footprint of `raw` pixels along R.dir (R_s / R.pix, unclamped):
-// the unit lattice turned by the pixel's hash angle, then stretched to the ellipse of radii
-// min(raw, max_radius) along R.dir and min(raw·c, max_radius) across it, so that every sample
-// lands where the penumbra can reach (a disk of the long radius would waste 1 − c of them).
-mat2 lattice(uvec2 p, Recv R, float raw) {
-  float ang = (FLAGS & SHADOWS_ISG_ROTATE) != 0u ? isg_pixel_angle(p + uvec2(pc.origin & 0xffffu, pc.origin >> 16)) : 0.0;
-  float ca = cos(ang), sa = sin(ang);
-  float a = min(raw, pc.max_radius), b = min(raw * R.c, pc.max_radius), o = (a - b) * R.dir.x * R.dir.y;
-  mat2 E = mat2(a * R.dir.x * R.dir.x + b * R.dir.y * R.dir.y, o, o, a * R.dir.y * R.dir.y + b * R.dir.x * R.dir.x);
-  return E * mat2(ca, sa, -sa, ca);
-}
-
-// Parameter search (eq. 4, 6, 7) at p over the footprint of Rp pixels (unclamped, along R.dir):
-// occluder distances weighted by r = gaussian · inShadow, the centre tap included, each measured
-// from p_0 (the tap's L.occluder plus the tap's offset along the light's direction). The mean
-// occluder distance, or -1 where no occluder is within reach (the hard shadow stands).
-// The sums of lattice samples part, part + parts, ... (the centre tap in part 0): a quad's
-// search is split over its four lanes.
-vec2 search_sums(Recv R, uvec2 p, uint i, float Rp, uint part, uint parts) {
-  float s0 = texelFetch(shadow_in, int(i)).r, o0 = texelFetch(occluder, int(i)).r;
-  float sw = 0.0, swd = 0.0;
-  if (part == 0u && s0 < 1.0 && o0 > 0.0) {
-    sw = 1.0 - s0;
-    swd = sw * o0;
-  }
-  vec2 p0 = vec2(p + uvec2(pc.origin & 0xffffu, pc.origin >> 16)) + 0.5;  // frame coordinates
-  ivec2 org = ivec2(pc.origin & 0xffffu, pc.origin >> 16);
-  uint grid_search = pc.grids & 0xffffu;
-  mat2 Rot = lattice(p, R, Rp);
-  for (uint k = part; k < grid_search * grid_search; k += parts) {
-    vec2 x = p0 + Rot * texelFetch(samples, int(k)).xy - 0.5;
-    vec2 x0 = floor(x), f = x - x0;
-    ivec2 xa = ivec2(x0) - org;
-    for (int j = 0; j < 4; ++j) {
-      ivec2 xx = xa + ivec2(j & 1, j >> 1);
-      if (xx.x < 0 || xx.y < 0 || xx.x >= int(pc.width) || xx.y >= int(pc.height)) continue;
-      int t = xx.y * int(pc.width) + xx.x;
-      vec4 Tt = texelFetch(pack, int(t));
-      if (!foreground(Tt) || !(Tt.w < 1.0)) continue;
-      vec3 dP = Tt.xyz - R.P0;
-      float ot = texelFetch(occluder, int(t)).r;
-      if (!(ot > 0.0)) continue;
-      // The tap's occluder seen from p_0: its distance from p_0, not from the tap (they differ
-      // by along(dP), large along a receiver under a grazing sphere light).
-      ot += along(dP, R.wl);
-      if (!(ot > 0.0)) continue;  // behind p_0
-      float bw = ((j & 1) != 0 ? f.x : 1.0 - f.x) * ((j >> 1) != 0 ? f.y : 1.0 - f.y);
-      float r = range_l2(dot(dP, dP)) * (1.0 - Tt.w) * bw;
-      float l = across(dP, R.wl);
-      if ((FLAGS & SHADOWS_ISG_SEARCH_REACH) != 0u) {
-        // PCSS's blocker test in image space: the occluder lies in p_0's cone to the light.
-        float Rt = penumbra(ot, R.D);
-        r *= clamp((SHADOWS_ISG_REACH * Rt + R.pix - l) * R.inv_pix, 0.0, 1.0);
-      }
-      sw += r;
-      swd += r * ot;
-    }
-  }
-  return vec2(sw, swd);
-}
-float search_mean(vec2 s) { return s.x > 0.0 ? s.y / s.x : -1.0; }
-float search(Recv R, uvec2 p, uint i, float Rp) { return search_mean(search_sums(R, p, i, Rp, 0u, 1u)); }
-
-// A tap's share of p_0's irradiance (issue 19), relative to the light's centre. Through an
-// occluder at distance d, the tap at offset cs across the light direction (its cross-section
-// offset, |cs| = across()) casts the shadow of the light point w = cs · L / R_s from the light's
-// centre (eq. 8's similar triangles: the ray from p_0 through the occluder point that blocks the
-// tap's own ray to the centre), so the gather's uniform weight over the cross-section is uniform
-// over the light's disk. The renderer's soft shadow weighs each point of the light by the
-// irradiance it gives p_0: at r = D·wl + w, max(n·r, 0) · |n_l·r| / |r|⁴ (the receiver's cosine,
-// the emitter's, the inverse square; n_l = wl for a sphere light, whose disk faces p_0). Under a
-// low light its top lights a floor several times as much as its bottom, and the part below the
-// receiver's horizon not at all. 1 where the receiver's normal is unknown.
-// In the gather's loop (issue 18) the weight is taken apart: n·r = D·(n·wl) + k·(n·dP − a·(n·wl))
-// with k = L / R_s and a = along(dP, wl), and |r|² / D² = 1 + 2k·(wl·cs) / D + k²·|cs|² / D²
-// (wl·cs = 0 for a sphere light), so that a tap costs a dot product and a division; Irr holds
-// what is the same for every tap of one gather. lib/effects/shadows/isg.cpp keeps the formula.
-struct Irr {
-  vec3 nk;               // k·n (0 where n is unknown)
-  float A, kcn, inv, kk, k2D, k, nlw;
-  bool hn;               // n is known (else every weight is 1)
-};
-Irr irradiance_setup(Recv R, float Rs) {
-  Irr I;
-  I.k = pc.light_size / max(Rs, 1e-30);
-  bool hn = R.n != vec3(0.0);
-  I.hn = hn;
-  float cn = dot(R.n, R.wl);
-  I.nk = I.k * R.n;
-  I.A = hn ? R.D * cn : 1.0;
-  I.kcn = I.k * cn;
-  I.inv = hn ? 1.0 / (R.D * max(cn, SHADOWS_ISG_MIN_CN)) : 1.0;
-  I.kk = hn ? I.k * I.k / (R.D * R.D) : 0.0;
-  I.k2D = hn ? 2.0 * I.k / R.D : 0.0;
-  I.nlw = dot(vec3(pc.light_nx, pc.light_ny, pc.light_nz), R.wl);
-  return I;
-}
-// The weight of the tap at dP (a = along(dP, wl), cs = dP − a·wl, l2 = |cs|²).
-float irradiance(Irr I, Recv R, vec3 dP, float a, vec3 cs, float l2) {
-  float num = max(I.A + dot(I.nk, dP) - a * I.kcn, 0.0);
-  float rr = 1.0 + I.kk * l2;
-  float e = 1.0;
-  if ((FLAGS & SHADOWS_ISG_ORIENTED) != 0u && I.hn) {
-    vec3 nl = vec3(pc.light_nx, pc.light_ny, pc.light_nz);
-    rr += I.k2D * dot(R.wl, cs);
-    e = abs(R.D * I.nlw + I.k * dot(nl, cs)) / (R.D * max(abs(I.nlw), SHADOWS_ISG_MIN_COS));
-  }
-  return num * I.inv * e / (rr * rr);
-}
-
-// Gather (eq. 4) over the shadow bits: over the points within R_s of p_0 across the light
-// direction (a one-pixel ramp at the rim), each weighed by its light point's irradiance
-// (irradiance()): on the receiver, the penumbra's footprint, stretched by 1 / cos θ_i; on
-// grazing receivers the screen disk, which reaches far along the surface, is cut back to it.
-// The gaussian of eq. 6 as range function. Bilinear taps, here and in the search: the shadow
-// bits are a binary signal, and point taps of them alias (issue 18: isg-synth contact's error
-// rose 40 % with point taps in the gather, shared contact's 7 % at 9 search samples with point
-// taps in the search).
-vec2 gather_sums(Recv R, uvec2 p, uint i, float Rs, uint part, uint parts) {
-  float sum = part == 0u ? texelFetch(shadow_in, int(i)).r : 0.0, ws = part == 0u ? 1.0 : 0.0;
-  vec2 p0 = vec2(p + uvec2(pc.origin & 0xffffu, pc.origin >> 16)) + 0.5;
-  ivec2 org = ivec2(pc.origin & 0xffffu, pc.origin >> 16);
-  uint grid_search = pc.grids & 0xffffu, grid_gather = pc.grids >> 16;
-  mat2 Rog = lattice(p, R, Rs * R.inv_pix);
-  Irr I = irradiance_setup(R, Rs);
-  for (uint k = part; k < grid_gather * grid_gather; k += parts) {
-    vec2 x = p0 + Rog * texelFetch(samples, int(grid_search * grid_search + k)).xy - 0.5;
-    vec2 x0 = floor(x), f = x - x0;
-    ivec2 xa = ivec2(x0) - org;
-    for (int j = 0; j < 4; ++j) {
-      ivec2 xx = xa + ivec2(j & 1, j >> 1);
-      if (xx.x < 0 || xx.y < 0 || xx.x >= int(pc.width) || xx.y >= int(pc.height)) continue;
-      vec4 Tt = texelFetch(pack, int(xx.y * int(pc.width) + xx.x));
-      if (!foreground(Tt)) continue;
-      vec3 dP = Tt.xyz - R.P0;
-      float a = along(dP, R.wl), dd = dot(dP, dP);
-      vec3 cs = dP - a * R.wl;
-      float l2 = (FLAGS & SHADOWS_ISG_ORIENTED) == 0u ? max(dd - a * a, 0.0) : dot(cs, cs);
-      float l = sqrt(l2);
-      float bw = ((j & 1) != 0 ? f.x : 1.0 - f.x) * ((j >> 1) != 0 ? f.y : 1.0 - f.y);
-      float r = range_l2(dd) * clamp((Rs + 0.5 * R.pix - l) * R.inv_pix, 0.0, 1.0) * bw *
-                irradiance(I, R, dP, a, cs, l2);
-      sum += r * Tt.w;
-      ws += r;
-    }
-  }
-  return vec2(sum, ws);
-}
-float gather(Recv R, uvec2 p, uint i, float Rs) {
-  vec2 s = gather_sums(R, p, i, Rs, 0u, 1u);
-  return s.x / s.y;
-}
-
-// A wide penumbra's gather (R_g ≥ SHADOWS_ISG_REUSE_RADIUS) moves little from one pixel to the
-// next: bilinear from the representatives' gathers around the pixel in the tile's quad grid, from
-// those on its surface (eq. 6 weight ≥ SHADOWS_ISG_QUAD_SAME) whose R_g is within a factor
-// SHADOWS_ISG_REUSE_RATIO of its own. False where they hold under SHADOWS_ISG_REUSE_COVER of the
-// bilinear weight: the pixel gathers for itself.
-bool reuse(vec3 P0, float Rg, out float m) {
-  uvec2 q0;  // the lower corner of the quads around the pixel (at their top-left pixels)
-  vec2 a;
-  isg_quad_bilinear(gl_LocalInvocationID.xy, QUADS, q0, a);
-  float s = 0.0, ws = 0.0;
-  for (uint k = 0u; k < 4u; ++k) {
-    uint q = (q0.y + (k >> 1u)) * QUADS + q0.x + (k & 1u);
-    float w = isg_quad_weight(a, k);
-    vec2 g = q_g[q];
-    if (w <= 0.0 || g.y < 0.0 || g.y * SHADOWS_ISG_REUSE_RATIO < Rg || Rg * SHADOWS_ISG_REUSE_RATIO < g.y) continue;
-    if (same_surface(q_rep[q], P0) < SHADOWS_ISG_QUAD_SAME) continue;
-    s += w * g.x;
-    ws += w;
-  }
-  m = ws > 0.0 ? s / ws : 0.0;
-  return ws >= SHADOWS_ISG_REUSE_COVER;
-}
-
-// The pixel's soft shadow after the quads' phase: the hard shadow where the tile took the cheap
-// path or no occluder is within reach, else the gather (or its reuse from the quads').
-float shade(uvec2 p, uint i, bool full, Recv R, float d_loc) {
-  float s0 = texelFetch(shadow_in, int(i)).r;
-  // Background is left untouched; the cheap path keeps the hard shadow.
-  if (!full) return s0;
-  atomicAdd(s_stat[SHADOWS_ISG_STAT_FULL], 1u);
-  float Rp_raw = d_loc > 0.0 ? penumbra(d_loc, R.D) / R.pix : 0.0;
-  bool clamped = Rp_raw > pc.max_radius;
-  // The search: the quad representative's, unless the pixel lies on another surface.
-  uvec2 l = gl_LocalInvocationID.xy / 2u;
-  uint qs = l.y * QUADS + l.x, r = q_rep[qs];
-  float d = q_d[qs];
-  if (r != i && same_surface(r, R.P0) < SHADOWS_ISG_QUAD_SAME) {
-    d = search(R, p, i, Rp_raw);
-    atomicAdd(s_stat[SHADOWS_ISG_STAT_SEARCHES], 1u);
-  }
-  float out_;
-  if (d < 0.0) {  // no occluder within reach: the hard shadow stands
-    out_ = s0;
-  } else {
-    // Eq. 8-9: the penumbra radius R_s in the world, R_g in pixels at the receiver's depth.
-    float Rs = penumbra(d, R.D);
-    float Rg_raw = Rs / R.pix;
-    clamped = clamped || Rg_raw > pc.max_radius;
-    float Rg = min(Rg_raw, pc.max_radius);
-    if (!(Rg >= SHADOWS_ISG_REUSE_RADIUS && reuse(R.P0, Rg, out_))) {
-      out_ = gather(R, p, i, Rs);
-      atomicAdd(s_stat[SHADOWS_ISG_STAT_GATHERS], 1u);
-    }
-  }
-  if (clamped) atomicAdd(s_stat[SHADOWS_ISG_STAT_CLAMPED], 1u);
-  return out_;
-}
 
 void main() {
-  uint tiles_x = (pc.width + SHADOWS_ISG_TILE - 1u) / SHADOWS_ISG_TILE;
-  uint tiles_y = (pc.height + SHADOWS_ISG_TILE - 1u) / SHADOWS_ISG_TILE;
-  uint nt = tiles_x * tiles_y;
-  // Dispatched over the tiles shadows.isg.list kept: workgroup k (row-major in a grid tiles_x
-  // wide) is tile tiles[list + k]; the last row's end is past the list.
-  uint k_list = gl_WorkGroupID.y * gl_NumWorkGroups.x + gl_WorkGroupID.x;
-  if (k_list >= tiles[SHADOWS_ISG_AT_COUNT(nt)]) return;  // the whole workgroup
-  uint tile = tiles[SHADOWS_ISG_AT_LIST(nt) + k_list];
-  uvec2 wg = uvec2(tile % tiles_x, tile / tiles_x);
-  uvec2 p = wg * SHADOWS_ISG_TILE + gl_LocalInvocationID.xy;
+  uint tile, nt;
+  uvec2 wg;
+  if (!listed_tile(tile, wg, nt)) return;  // the whole workgroup
+  if (tiles[2u * nt + tile] != 0u) return;  // the cheap path: L.softshadow keeps the hard shadow
+  uvec2 l = gl_LocalInvocationID.xy, p = wg * SHADOWS_ISG_TILE + l;
   bool inside = p.x < pc.width && p.y < pc.height;
   uint i = inside ? p.y * pc.width + p.x : 0u;
-  float d_max = uintBitsToFloat(tiles[SHADOWS_ISG_AT_STATS(nt) + SHADOWS_ISG_STAT_DMAX]);
-  if (gl_LocalInvocationIndex == 0u) {
-    s_rp = 0u;
-    s_reach = 0u;
-    s_dloc = 0u;
-  }
-  if (gl_LocalInvocationIndex < SHADOWS_ISG_STATS) s_stat[gl_LocalInvocationIndex] = 0u;
-  barrier();
-
-  // The reach of the widest penumbra in the image bounds the tiles to look at.
-  vec4 t0_ = inside ? texelFetch(pack, int(i)) : vec4(SHADOWS_ISG_BACKGROUND);
-  bool fg0 = foreground(t0_);
-  Recv R;
-  if (fg0) {
-    R = receiver(p, t0_.xyz);
-    float Rp_max = d_max > 0.0 ? penumbra(d_max, R.D) / R.pix : 0.0;
-    atomicMax(s_rp, floatBitsToUint(min(Rp_max, pc.max_radius)));
-  }
-  barrier();
-  // The tiles the search and the gather can reach (radius + 1 for the bilinear taps).
-  int reach = int(ceil(uintBitsToFloat(s_rp))) + 1;
-  ivec2 t0 = ivec2(wg) * SHADOWS_ISG_TILE;
-  ivec2 lo = max((t0 - reach) / SHADOWS_ISG_TILE, ivec2(0));
-  ivec2 hi = min((t0 + SHADOWS_ISG_TILE - 1 + reach) / SHADOWS_ISG_TILE, ivec2(tiles_x - 1u, tiles_y - 1u));
-  int span = hi.x - lo.x + 1, count = span * (hi.y - lo.y + 1);
-  for (int k = int(gl_LocalInvocationIndex); k < count; k += SHADOWS_ISG_TILE * SHADOWS_ISG_TILE) {
-    uint t = uint(lo.y + k / span) * tiles_x + uint(lo.x + k % span);
-    atomicOr(s_reach, tiles[t]);
-    atomicMax(s_dloc, tiles[nt + t]);
-  }
-  barrier();
-  bool cheap = (FLAGS & SHADOWS_ISG_TILE_SKIP) != 0u &&
-               s_reach != (SHADOWS_ISG_FLAG_LIT | SHADOWS_ISG_FLAG_SHADOW);
-  if (gl_LocalInvocationIndex == 0u) tiles[2u * nt + tile] = cheap ? 1u : 0u;
-  // Eq. 5: the search radius R_p covers the widest penumbra the occluders around can cast.
-  float d_loc = uintBitsToFloat(s_dloc);
-
-  // The quads' searches and wide gathers, each split over four lanes: lane q + part·QUADS² takes
-  // samples part, part + 4, ... of quad q's lattices (whole SIMD rows of llvmpipe and whole warps
-  // on one part); the partial sums are added in a fixed order. `cheap` is uniform over the tile.
-  if (!cheap) {
-    uint q = gl_LocalInvocationIndex % (QUADS * QUADS), part = gl_LocalInvocationIndex / (QUADS * QUADS);
-    uvec2 base = wg * SHADOWS_ISG_TILE + 2u * uvec2(q % QUADS, q / QUADS);
-    uint r = NO_REP;
-    uvec2 rp = base;
-    for (uint k = 0u; k < 4u; ++k) {
-      uvec2 pp = base + uvec2(k & 1u, k >> 1u);
-      if (r == NO_REP && pp.x < pc.width && pp.y < pc.height && foreground(texelFetch(pack, int(pp.y * pc.width + pp.x)))) {
-        r = pp.y * pc.width + pp.x;
-        rp = pp;
-      }
-    }
-    Recv Rr;
-    if (r != NO_REP) {
-      Rr = receiver(rp, texelFetch(pack, int(r)).xyz);
-      float Rp = d_loc > 0.0 ? penumbra(d_loc, Rr.D) / Rr.pix : 0.0;
-      q_part[part][q] = search_sums(Rr, rp, r, Rp, part, QUAD_PARTS);
-    }
-    barrier();
-    float d = -1.0, Rs = 0.0, Rg = -1.0;
-    if (r != NO_REP) {
-      d = search_mean(q_part[0][q] + q_part[1][q] + q_part[2][q] + q_part[3][q]);
-      if (d >= 0.0) {
-        Rs = penumbra(d, Rr.D);
-        Rg = min(Rs / Rr.pix, pc.max_radius);
-      }
-    }
-    bool wide = d >= 0.0 && Rg >= SHADOWS_ISG_REUSE_RADIUS;
-    barrier();
-    if (wide) q_part[part][q] = gather_sums(Rr, rp, r, Rs, part, QUAD_PARTS);
-    barrier();
-    if (part == 0u) {
-      q_rep[q] = r;
-      q_d[q] = d;
-      vec2 g = wide ? q_part[0][q] + q_part[1][q] + q_part[2][q] + q_part[3][q] : vec2(0.0);
-      q_g[q] = wide ? vec2(g.x / g.y, Rg) : vec2(0.0, -1.0);
-      if (r != NO_REP) atomicAdd(s_stat[SHADOWS_ISG_STAT_SEARCHES], 1u);
-      if (wide) atomicAdd(s_stat[SHADOWS_ISG_STAT_GATHERS], 1u);
+  vec4 t0 = inside ? texelFetch(pack, int(i)) : vec4(SHADOWS_ISG_BACKGROUND);
+  bool full = foreground(t0), clamped = false, listed = false, search_own = false;
+  float out_ = 0.0;
+  if (full) {
+    Recv R = receiver(p, t0.xyz);
+    float d_loc = uintBitsToFloat(tiles[SHADOWS_ISG_AT_DLOC(nt) + tile]);
+    float Rp_raw = d_loc > 0.0 ? penumbra(d_loc, R.D) / R.pix : 0.0;
+    clamped = Rp_raw > pc.max_radius;
+    uint at = quad_at(nt, tile, quad_of(l)), r = tiles[at];
+    float d = uintBitsToFloat(tiles[at + 1u]);
+    search_own = r != i && same_surface(r, R.P0) < SHADOWS_ISG_QUAD_SAME;
+    if (search_own) {
+      listed = true;
+    } else if (d < 0.0) {  // no occluder within reach: the hard shadow stands
+      out_ = texelFetch(shadow_in, int(i)).r;
+    } else {
+      float Rs = penumbra(d, R.D);
+      float Rg_raw = Rs / R.pix;
+      clamped = clamped || Rg_raw > pc.max_radius;
+      float Rg = min(Rg_raw, pc.max_radius);
+      listed = !(Rg >= SHADOWS_ISG_REUSE_RADIUS && reuse(l, nt, tile, R.P0, Rg, out_));
     }
   }
-  barrier();
-  if (inside) soft[i] = shade(p, i, fg0 && !cheap, R, d_loc);
-  // The tile's statistics into the image's (stats: every lane has passed its last atomic).
-  barrier();
-  if (gl_LocalInvocationIndex >= SHADOWS_ISG_STAT_CLAMPED && gl_LocalInvocationIndex < SHADOWS_ISG_STATS &&
-      s_stat[gl_LocalInvocationIndex] != 0u)
-    atomicAdd(tiles[SHADOWS_ISG_AT_STATS(nt) + gl_LocalInvocationIndex], s_stat[gl_LocalInvocationIndex]);
+  if (listed) {
+    uint k = atomicAdd(tiles[SHADOWS_ISG_AT_OWN_COUNT(nt)], 1u);
+    tiles[SHADOWS_ISG_AT_OWN(nt) + k] = i | (search_own ? SHADOWS_ISG_OWN_SEARCH : 0u);
+    // That dispatch is SHADOWS_ISG_OWN_ROW workgroups wide: a row per row's worth begun.
+    if (k % (SHADOWS_ISG_OWN_ROW * SHADOWS_ISG_OWN_LOCAL) == 0u) atomicAdd(tiles[SHADOWS_ISG_AT_OWN_ARGS(nt) + 1u], 1u);
+  } else if (full) {
+    soft[i] = out_;
+  }
+  // Statistics (the pixels that search for themselves count theirs in shadows.isg.own).
+  uint n_full = subgroupAdd(full ? 1u : 0u), n_clamped = subgroupAdd(clamped && !search_own ? 1u : 0u);
+  if (subgroupElect()) {
+    if (n_full != 0u) atomicAdd(tiles[SHADOWS_ISG_AT_STATS(nt) + SHADOWS_ISG_STAT_FULL], n_full);
+    if (n_clamped != 0u) atomicAdd(tiles[SHADOWS_ISG_AT_STATS(nt) + SHADOWS_ISG_STAT_CLAMPED], n_clamped);
+  }
 }

@@ -2,12 +2,15 @@
 #define SHADOWS_ISG_IO_H
 #include "isg_io.h"
 ISG_IO_BEGIN
-// One workgroup is one tile in both passes of method isg: shadows.isg.tiles classifies the
-// tiles, shadows.isg skips those with no shadow boundary within reach (L.softshadow = L.shadow).
+// Method isg works in tiles of SHADOWS_ISG_TILE² pixels: shadows.isg.tiles classifies them,
+// shadows.isg.list keeps those with a shadow boundary within reach, shadows.isg.reach,
+// shadows.isg.quads and shadows.isg run over those (a workgroup a tile), shadows.isg.own over the
+// pixels shadows.isg lists; the other tiles keep L.softshadow = L.shadow.
 #define SHADOWS_ISG_TILE 16
 // The tiles buffer (uint): [0, nt) tile flags from shadows.isg.tiles (bit 0: a foreground pixel
 // with some light, bit 1: one with some shadow), [nt, 2nt) the tile's largest occluder distance
-// (float bits), [2nt, 3nt) 1 where shadows.isg took the cheap path, then the statistics at
+// (float bits), [2nt, 3nt) 1 where a tile takes the cheap path (shadows.isg.reach, or the list's
+// marking), then the statistics at
 // 3nt + SHADOWS_ISG_STAT_*; then the tiles shadows.isg runs on (shadows.isg.list): a
 // VkDispatchIndirectCommand (tiles_x by the rows the list fills, so that no count exceeds the
 // device's workgroup limit on a large plate), their number, then the tile indices.
@@ -15,7 +18,25 @@ ISG_IO_BEGIN
 #define SHADOWS_ISG_AT_ARGS(nt) (3u * (nt) + SHADOWS_ISG_STATS)
 #define SHADOWS_ISG_AT_COUNT(nt) (3u * (nt) + SHADOWS_ISG_STATS + 3u)
 #define SHADOWS_ISG_AT_LIST(nt) (3u * (nt) + SHADOWS_ISG_STATS + 4u)
-#define SHADOWS_ISG_TILES_WORDS(nt) (4u * (nt) + SHADOWS_ISG_STATS + 4u)
+// Then what the dispatches of shadows.isg pass on (issue 18: four dispatches without barriers or
+// shared memory, as reflections.isg's): per tile the largest occluder distance within its reach
+// (float bits; shadows.isg.reach); the dispatch of the pixels' list (a VkDispatchIndirectCommand,
+// SHADOWS_ISG_OWN_ROW by the rows the list fills) and their number; per tile the records of its
+// QUADS² 2×2 quads (shadows.isg.quads: the representative's index or NO_REP, its mean occluder
+// distance, its wide gather and R_g, 4 words); the pixels' list (shadows.isg: the pixels that
+// search or gather for themselves, their index | SHADOWS_ISG_OWN_SEARCH).
+#define SHADOWS_ISG_AT_DLOC(nt) (4u * (nt) + SHADOWS_ISG_STATS + 4u)
+#define SHADOWS_ISG_AT_OWN_ARGS(nt) (5u * (nt) + SHADOWS_ISG_STATS + 4u)
+#define SHADOWS_ISG_AT_OWN_COUNT(nt) (SHADOWS_ISG_AT_OWN_ARGS(nt) + 3u)
+#define SHADOWS_ISG_AT_QUADS(nt) (SHADOWS_ISG_AT_OWN_ARGS(nt) + 4u)
+#define SHADOWS_ISG_AT_OWN(nt) (SHADOWS_ISG_AT_QUADS(nt) + SHADOWS_ISG_TILE * SHADOWS_ISG_TILE * (nt))
+#define SHADOWS_ISG_TILES_WORDS(nt) (SHADOWS_ISG_AT_OWN(nt) + SHADOWS_ISG_TILE * SHADOWS_ISG_TILE * (nt))
+#define SHADOWS_ISG_OWN_SEARCH 0x80000000u
+#define SHADOWS_ISG_NO_REP 0xffffffffu  // a quad with no foreground pixel
+// Pass shadows.isg.own: a lane per listed pixel, SHADOWS_ISG_OWN_LOCAL a workgroup,
+// SHADOWS_ISG_OWN_ROW workgroups a row of the dispatch.
+#define SHADOWS_ISG_OWN_LOCAL 64u
+#define SHADOWS_ISG_OWN_ROW 256u
 // Pass shadows.isg.list: one lane per tile.
 #define SHADOWS_ISG_LIST_LOCAL 64
 #define SHADOWS_ISG_FLAG_LIT 1u

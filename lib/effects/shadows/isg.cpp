@@ -11,6 +11,9 @@
 #include "isg/shaders/shadows_isg.spv.h"
 #include "isg/shaders/shadows_isg_tiles.spv.h"
 #include "isg/shaders/shadows_isg_list.spv.h"
+#include "isg/shaders/shadows_isg_own.spv.h"
+#include "isg/shaders/shadows_isg_quads.spv.h"
+#include "isg/shaders/shadows_isg_reach.spv.h"
 #include "shadows_isg_io.h"
 
 namespace isg::effects {
@@ -380,6 +383,15 @@ std::vector<float> shadows_isg_reference(const ShadowInputs& in, const ShadowSet
   return out;
 }
 
+namespace {
+// The bindings of shadows.isg's four dispatches (shaders/shadows_isg.h): the taps' texels,
+// L.occluder, the tiles buffer, L.softshadow, the lattices, L.shadow.
+std::vector<gpu::Slot> isg_slots() {
+  return {gpu::Slot::texels, gpu::Slot::texels, gpu::Slot::buffer,
+          gpu::Slot::buffer, gpu::Slot::texels, gpu::Slot::texels};
+}
+}  // namespace
+
 ShadowsIsgPass::ShadowsIsgPass(gpu::Context& ctx)
     : ctx_(ctx),
       tiles_kernel_(ctx, "shadows.isg.tiles", isg_spv_shadows_isg_tiles,
@@ -390,10 +402,14 @@ ShadowsIsgPass::ShadowsIsgPass(gpu::Context& ctx)
       list_kernel_(ctx, "shadows.isg.list", isg_spv_shadows_isg_list,
                    {gpu::Slot::texels, gpu::Slot::buffer},
                    sizeof(shaders::ShadowsIsgListPush), SHADOWS_ISG_LIST_LOCAL, 1),
-      kernel_(ctx, "shadows.isg", isg_spv_shadows_isg,
-              {gpu::Slot::texels, gpu::Slot::texels, gpu::Slot::buffer, gpu::Slot::buffer,
-               gpu::Slot::texels, gpu::Slot::texels},
-              sizeof(shaders::ShadowsIsgPush), SHADOWS_ISG_TILE, SHADOWS_ISG_TILE) {}
+      reach_kernel_(ctx, "shadows.isg.reach", isg_spv_shadows_isg_reach, isg_slots(),
+                    sizeof(shaders::ShadowsIsgPush), SHADOWS_ISG_TILE, SHADOWS_ISG_TILE),
+      quads_kernel_(ctx, "shadows.isg.quads", isg_spv_shadows_isg_quads, isg_slots(),
+                    sizeof(shaders::ShadowsIsgPush), SHADOWS_ISG_TILE / 2, SHADOWS_ISG_TILE / 2),
+      kernel_(ctx, "shadows.isg", isg_spv_shadows_isg, isg_slots(), sizeof(shaders::ShadowsIsgPush),
+              SHADOWS_ISG_TILE, SHADOWS_ISG_TILE),
+      own_kernel_(ctx, "shadows.isg.own", isg_spv_shadows_isg_own, isg_slots(),
+                  sizeof(shaders::ShadowsIsgPush), SHADOWS_ISG_OWN_LOCAL, 1) {}
 
 ShadowsIsgPass::~ShadowsIsgPass() = default;
 
@@ -468,14 +484,18 @@ void ShadowsIsgPass::record(gpu::Sequence& seq, const ShadowSettings& s, const g
   lp.r21 = pc.r21;
   lp.r22 = pc.r22;
 
-  // The statistics are accumulated with atomics: start from zero, and the dispatch of the listed
-  // tiles from tiles_x by no rows by 1.
+  // The statistics are accumulated with atomics: start from zero, the dispatch of the listed
+  // tiles from tiles_x by no rows by 1, that of the listed pixels from SHADOWS_ISG_OWN_ROW by no
+  // rows by 1 (the quads' records and the pixels' list need no clearing: what is read was written
+  // in the same run).
   // A tile starts from the whole frame's d_max (eq. 8), as the one-piece run would end with.
-  std::vector<uint32_t> init(shadows_isg_tiles_words(w, h), 0u);
+  std::vector<uint32_t> init(SHADOWS_ISG_AT_QUADS(nt), 0u);
   const float dm = float(s.d_max_floor);
   std::memcpy(&init[SHADOWS_ISG_AT_STATS(nt) + SHADOWS_ISG_STAT_DMAX], &dm, sizeof dm);
   init[SHADOWS_ISG_AT_ARGS(nt)] = tx;
   init[SHADOWS_ISG_AT_ARGS(nt) + 2] = 1u;
+  init[SHADOWS_ISG_AT_OWN_ARGS(nt)] = SHADOWS_ISG_OWN_ROW;
+  init[SHADOWS_ISG_AT_OWN_ARGS(nt) + 2] = 1u;
   tiles.upload(std::span<const uint32_t>(init));
   seq.dispatch(tiles_kernel_.at({has_position ? SHADOWS_ISG_HAS_POSITION : 0u}),
                {gpu::Binding::floats(shadow), gpu::Binding::floats(occluder),
@@ -491,18 +511,24 @@ void ShadowsIsgPass::record(gpu::Sequence& seq, const ShadowSettings& s, const g
                          (s.search_reach ? SHADOWS_ISG_SEARCH_REACH : 0u) |
                          (s.tile_skip ? SHADOWS_ISG_TILE_SKIP : 0u) |
                          (s.oriented ? SHADOWS_ISG_ORIENTED : 0u);
-  seq.dispatch_indirect(kernel_.at({flags}),
-                        {gpu::Binding::float4s(pack), gpu::Binding::floats(occluder),
-                         gpu::Binding::of(tiles), gpu::Binding::of(soft),
-                         gpu::Binding::texels(samples(s.grid_search, s.grid_gather),
-                                              VK_FORMAT_R32G32_SFLOAT),
-                         gpu::Binding::floats(shadow)},
-                        pc, tiles, uint64_t(SHADOWS_ISG_AT_ARGS(nt)) * 4, label);
+  const std::vector<gpu::Binding> bind = {
+      gpu::Binding::float4s(pack), gpu::Binding::floats(occluder), gpu::Binding::of(tiles),
+      gpu::Binding::of(soft),
+      gpu::Binding::texels(samples(s.grid_search, s.grid_gather), VK_FORMAT_R32G32_SFLOAT),
+      gpu::Binding::floats(shadow)};
+  // Four dispatches, none with more than the reach's two barriers (issue 18, as reflections.isg):
+  // the tiles' reach, the quads' searches and wide gathers, the pixels, the pixels' own list.
+  const VkDeviceSize tiles_args = uint64_t(SHADOWS_ISG_AT_ARGS(nt)) * 4;
+  seq.dispatch_indirect(reach_kernel_.at({flags}), bind, pc, tiles, tiles_args, label + ".reach");
+  seq.dispatch_indirect(quads_kernel_.at({flags}), bind, pc, tiles, tiles_args, label + ".quads");
+  seq.dispatch_indirect(kernel_.at({flags}), bind, pc, tiles, tiles_args, label);
+  seq.dispatch_indirect(own_kernel_.at({flags}), bind, pc, tiles,
+                        uint64_t(SHADOWS_ISG_AT_OWN_ARGS(nt)) * 4, label + ".own");
 }
 
 ShadowIsgStats ShadowsIsgPass::stats(const gpu::Buffer& tiles, uint32_t w, uint32_t h) {
-  const uint32_t words = shadows_isg_tiles_words(w, h), nt = shadows_isg_tiles(w, h);
-  auto t = tiles.download_as<uint32_t>(words);
+  const uint32_t nt = shadows_isg_tiles(w, h);
+  auto t = tiles.download_as<uint32_t>(SHADOWS_ISG_AT_QUADS(nt));  // not the records or the list
   ShadowIsgStats st;
   size_t k = 0;
   for (uint32_t j = 0; j < nt; ++j) k += t[2 * nt + j] != 0 ? 1 : 0;

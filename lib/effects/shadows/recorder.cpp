@@ -78,7 +78,8 @@ class ShadowsRecorder final : public Recorder {
       out.gathers.push_back({f.isg_label, t.full_pixels,
                              t.searches * uint64_t(s.grid_search * s.grid_search) +
                                  t.gathers * uint64_t(s.grid_gather * s.grid_gather),
-                             4});  // bilinear: four texels, each with its range weight
+                             4,  // bilinear: four texels, each with its range weight
+                             {f.isg_label + ".reach", f.isg_label + ".quads", f.isg_label + ".own"}});
     }
   }
 

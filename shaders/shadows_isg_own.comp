@@ -1,0 +1,41 @@
+#version 450
+// Pass shadows.isg.own (method isg, step 6 of 6): a lane per pixel on the list shadows.isg made.
+// A pixel on another surface than its quad's representative searches for itself (eq. 4, 6, 7),
+// then takes its penumbra as shadows.isg would (the quads' gathers around it where they can lend
+// it); every listed pixel else gathers for itself (eq. 4, radius R_g of eq. 8-9).
+#extension GL_GOOGLE_include_directive : require
+#include "shadows_isg.h"
+layout(local_size_x = SHADOWS_ISG_OWN_LOCAL) in;
+
+void main() {
+  uint tiles_x = (pc.width + SHADOWS_ISG_TILE - 1u) / SHADOWS_ISG_TILE;
+  uint nt = tiles_x * ((pc.height + SHADOWS_ISG_TILE - 1u) / SHADOWS_ISG_TILE);
+  uint k = (gl_WorkGroupID.y * gl_NumWorkGroups.x + gl_WorkGroupID.x) * SHADOWS_ISG_OWN_LOCAL + gl_LocalInvocationIndex;
+  if (k >= tiles[SHADOWS_ISG_AT_OWN_COUNT(nt)]) return;
+  uint e = tiles[SHADOWS_ISG_AT_OWN(nt) + k], i = e & ~SHADOWS_ISG_OWN_SEARCH;
+  bool search_own = (e & SHADOWS_ISG_OWN_SEARCH) != 0u;
+  uvec2 p = uvec2(i % pc.width, i / pc.width), wg = p / SHADOWS_ISG_TILE, l = p % SHADOWS_ISG_TILE;
+  uint tile = wg.y * tiles_x + wg.x;
+  Recv R = receiver(p, texelFetch(pack, int(i)).xyz);
+  uint at = quad_at(nt, tile, quad_of(l));
+  float d = uintBitsToFloat(tiles[at + 1u]), out_ = texelFetch(shadow_in, int(i)).r;
+  bool gathers = !search_own, clamped = false;
+  if (search_own) {
+    float d_loc = uintBitsToFloat(tiles[SHADOWS_ISG_AT_DLOC(nt) + tile]);
+    float Rp_raw = d_loc > 0.0 ? penumbra(d_loc, R.D) / R.pix : 0.0;
+    clamped = Rp_raw > pc.max_radius;
+    d = search(R, p, i, Rp_raw);
+    if (d >= 0.0) {
+      float Rg_raw = penumbra(d, R.D) / R.pix;
+      clamped = clamped || Rg_raw > pc.max_radius;
+      float Rg = min(Rg_raw, pc.max_radius);
+      gathers = !(Rg >= SHADOWS_ISG_REUSE_RADIUS && reuse(l, nt, tile, R.P0, Rg, out_));
+    }
+  }
+  if (gathers) out_ = gather(R, p, i, penumbra(d, R.D));
+  soft[i] = out_;
+  // Statistics: few lanes, from tiles anywhere in the image.
+  if (search_own) atomicAdd(tiles[SHADOWS_ISG_AT_STATS(nt) + SHADOWS_ISG_STAT_SEARCHES], 1u);
+  if (gathers) atomicAdd(tiles[SHADOWS_ISG_AT_STATS(nt) + SHADOWS_ISG_STAT_GATHERS], 1u);
+  if (search_own && clamped) atomicAdd(tiles[SHADOWS_ISG_AT_STATS(nt) + SHADOWS_ISG_STAT_CLAMPED], 1u);
+}

@@ -1,0 +1,61 @@
+#version 450
+// Pass shadows.isg.quads (method isg, step 4 of 6): a lane per 2×2 quad of the listed tiles that
+// do not take the cheap path. The search and the wide gathers at half resolution (issue 18): the
+// quad's first foreground pixel (the representative) searches (eq. 4, 6, 7) over the whole
+// lattice, and gathers (eq. 4) where its radius R_g is at least SHADOWS_ISG_REUSE_RADIUS; both
+// into the quad's record for shadows.isg and .own. Each sum is taken as QUAD_PARTS strided
+// partial sums added in order, as the reference and the GPU's earlier one-lane-a-part split did.
+#extension GL_GOOGLE_include_directive : require
+#extension GL_KHR_shader_subgroup_arithmetic : require
+#extension GL_KHR_shader_subgroup_basic : require
+#include "shadows_isg.h"
+layout(local_size_x = QUADS, local_size_y = QUADS) in;
+
+void main() {
+  uint tile, nt;
+  uvec2 wg;
+  if (!listed_tile(tile, wg, nt)) return;  // the whole workgroup
+  if (tiles[2u * nt + tile] != 0u) return;  // the cheap path: no record is read
+  uint q = gl_LocalInvocationIndex, at = quad_at(nt, tile, q);
+  float d_loc = uintBitsToFloat(tiles[SHADOWS_ISG_AT_DLOC(nt) + tile]);
+  uvec2 base = wg * SHADOWS_ISG_TILE + 2u * uvec2(q % QUADS, q / QUADS);
+  uint r = SHADOWS_ISG_NO_REP;
+  uvec2 rp = base;
+  for (uint k = 0u; k < 4u; ++k) {
+    uvec2 pp = base + uvec2(k & 1u, k >> 1u);
+    if (r == SHADOWS_ISG_NO_REP && pp.x < pc.width && pp.y < pc.height && foreground(texelFetch(pack, int(pp.y * pc.width + pp.x)))) {
+      r = pp.y * pc.width + pp.x;
+      rp = pp;
+    }
+  }
+  float d = -1.0, Rg = -1.0, m = 0.0;
+  bool wide = false;
+  if (r != SHADOWS_ISG_NO_REP) {
+    Recv Rr = receiver(rp, texelFetch(pack, int(r)).xyz);
+    float Rp = d_loc > 0.0 ? penumbra(d_loc, Rr.D) / Rr.pix : 0.0;
+    vec2 s = vec2(0.0);
+    for (uint part = 0u; part < QUAD_PARTS; ++part) s += search_sums(Rr, rp, r, Rp, part, QUAD_PARTS);
+    d = search_mean(s);
+    float Rs = 0.0;
+    if (d >= 0.0) {
+      Rs = penumbra(d, Rr.D);
+      Rg = min(Rs / Rr.pix, pc.max_radius);
+    }
+    wide = d >= 0.0 && Rg >= SHADOWS_ISG_REUSE_RADIUS;
+    if (wide) {
+      vec2 g = vec2(0.0);
+      for (uint part = 0u; part < QUAD_PARTS; ++part) g += gather_sums(Rr, rp, r, Rs, part, QUAD_PARTS);
+      m = g.x / g.y;
+    }
+  }
+  tiles[at] = r;
+  tiles[at + 1u] = floatBitsToUint(d);
+  tiles[at + 2u] = floatBitsToUint(wide ? m : 0.0);
+  tiles[at + 3u] = floatBitsToUint(wide ? Rg : -1.0);
+  // Statistics: reduced over the subgroup, one atomic a subgroup.
+  uint searches = subgroupAdd(r != SHADOWS_ISG_NO_REP ? 1u : 0u), gathers = subgroupAdd(wide ? 1u : 0u);
+  if (subgroupElect()) {
+    if (searches != 0u) atomicAdd(tiles[SHADOWS_ISG_AT_STATS(nt) + SHADOWS_ISG_STAT_SEARCHES], searches);
+    if (gathers != 0u) atomicAdd(tiles[SHADOWS_ISG_AT_STATS(nt) + SHADOWS_ISG_STAT_GATHERS], gathers);
+  }
+}
