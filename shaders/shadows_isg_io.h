@@ -10,21 +10,22 @@ ISG_IO_BEGIN
 // The tiles buffer (uint): [0, nt) tile flags from shadows.isg.tiles (bit 0: a foreground pixel
 // with some light, bit 1: one with some shadow), [nt, 2nt) the tile's largest occluder distance
 // (float bits), [2nt, 3nt) 1 where a tile takes the cheap path (shadows.isg.reach, or the list's
-// marking), then the statistics at
-// 3nt + SHADOWS_ISG_STAT_*; then the tiles shadows.isg runs on (shadows.isg.list): a
-// VkDispatchIndirectCommand (tiles_x by the rows the list fills, so that no count exceeds the
-// device's workgroup limit on a large plate), their number, then the tile indices.
+// marking), then the statistics at 3nt + SHADOWS_ISG_STAT_*; then the tiles shadows.isg runs on
+// (shadows.isg.list): a VkDispatchIndirectCommand (tiles_x by the rows the list fills, so that no
+// count exceeds the device's workgroup limit on a large plate), their number, then the tile
+// indices.
 #define SHADOWS_ISG_AT_STATS(nt) (3u * (nt))
 #define SHADOWS_ISG_AT_ARGS(nt) (3u * (nt) + SHADOWS_ISG_STATS)
 #define SHADOWS_ISG_AT_COUNT(nt) (3u * (nt) + SHADOWS_ISG_STATS + 3u)
 #define SHADOWS_ISG_AT_LIST(nt) (3u * (nt) + SHADOWS_ISG_STATS + 4u)
-// Then what the dispatches of shadows.isg pass on (issue 18: four dispatches without barriers or
-// shared memory, as reflections.isg's): per tile the largest occluder distance within its reach
-// (float bits; shadows.isg.reach); the dispatch of the pixels' list (a VkDispatchIndirectCommand,
-// SHADOWS_ISG_OWN_ROW by the rows the list fills) and their number; per tile the records of its
-// QUADS² 2×2 quads (shadows.isg.quads: the representative's index or NO_REP, its mean occluder
-// distance, its wide gather and R_g, 4 words); the pixels' list (shadows.isg: the pixels that
-// search or gather for themselves, their index | SHADOWS_ISG_OWN_SEARCH).
+// Then what the dispatches of shadows.isg pass on (issue 18: four dispatches, as reflections.isg's,
+// barriers and shared memory in shadows.isg.reach only): per tile the largest occluder distance
+// within its reach (float bits; shadows.isg.reach); the dispatch of the pixels' list (a
+// VkDispatchIndirectCommand, SHADOWS_ISG_OWN_ROW by the rows the list fills) and their number;
+// per tile the records of its QUADS² 2×2 quads (shadows.isg.quads: the representative's index or
+// SHADOWS_ISG_NO_REP, its mean occluder distance, its wide gather and R_g, 4 words); the pixels'
+// list (shadows.isg: the pixels that search or gather for themselves, their index |
+// SHADOWS_ISG_OWN_SEARCH).
 #define SHADOWS_ISG_AT_DLOC(nt) (4u * (nt) + SHADOWS_ISG_STATS + 4u)
 #define SHADOWS_ISG_AT_OWN_ARGS(nt) (5u * (nt) + SHADOWS_ISG_STATS + 4u)
 #define SHADOWS_ISG_AT_OWN_COUNT(nt) (SHADOWS_ISG_AT_OWN_ARGS(nt) + 3u)

@@ -516,8 +516,8 @@ void ShadowsIsgPass::record(gpu::Sequence& seq, const ShadowSettings& s, const g
       gpu::Binding::of(soft),
       gpu::Binding::texels(samples(s.grid_search, s.grid_gather), VK_FORMAT_R32G32_SFLOAT),
       gpu::Binding::floats(shadow)};
-  // Four dispatches, none with more than the reach's two barriers (issue 18, as reflections.isg):
-  // the tiles' reach, the quads' searches and wide gathers, the pixels, the pixels' own list.
+  // Four dispatches, barriers in the first only (issue 18, as reflections.isg): the tiles' reach,
+  // the quads' searches and wide gathers, the pixels, the pixels' own list.
   const VkDeviceSize tiles_args = uint64_t(SHADOWS_ISG_AT_ARGS(nt)) * 4;
   seq.dispatch_indirect(reach_kernel_.at({flags}), bind, pc, tiles, tiles_args, label + ".reach");
   seq.dispatch_indirect(quads_kernel_.at({flags}), bind, pc, tiles, tiles_args, label + ".quads");

@@ -71,9 +71,9 @@ class ShadowsIsgPass {
   gpu::Context& ctx_;
   gpu::KernelVariants tiles_kernel_;  // specialised on SHADOWS_ISG_HAS_POSITION
   gpu::Kernel list_kernel_;
-  gpu::KernelVariants reach_kernel_, quads_kernel_;  // all four specialised on the SHADOWS_ISG_* settings
-  gpu::KernelVariants kernel_;
-  gpu::KernelVariants own_kernel_;
+  // shadows.isg's four dispatches (.reach, .quads, the pixels', .own), specialised on the
+  // SHADOWS_ISG_* settings.
+  gpu::KernelVariants reach_kernel_, quads_kernel_, kernel_, own_kernel_;
   std::map<std::pair<int, int>, std::unique_ptr<gpu::Buffer>> samples_;
 };
 
