@@ -14,7 +14,7 @@ layout(std430, binding = 3) buffer Soft { float soft[]; };
 // The search lattice (grid_s² entries) then the gather lattice (grid_g²): concentric-disk
 // points made on the host, (x, y) of each texel.
 layout(binding = 4) uniform samplerBuffer samples;
-layout(binding = 5) uniform samplerBuffer shadow_in;  // for the background
+layout(binding = 5) uniform samplerBuffer shadow_in;  // L.shadow, which stands where no occluder is within reach
 layout(push_constant) uniform Push { ShadowsIsgPush pc; };
 // SHADOWS_ISG_* settings: compiled in, not branched on (gpu::Kernel).
 layout(constant_id = 0) const uint FLAGS = 0u;
