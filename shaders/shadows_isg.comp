@@ -28,8 +28,7 @@ void main() {
   if (full) {
     Recv R = receiver(p, t0.xyz);
     float d_loc = uintBitsToFloat(tiles[SHADOWS_ISG_AT_DLOC(nt) + tile]);
-    float Rp_raw = d_loc > 0.0 ? penumbra(d_loc, R.D) / R.pix : 0.0;
-    clamped = Rp_raw > pc.max_radius;
+    clamped = radius_px(R, d_loc) > pc.max_radius;
     uint at = quad_at(nt, tile, quad_of(l)), r = tiles[at];
     float d = uintBitsToFloat(tiles[at + 1u]);
     search_own = r != i && same_surface(r, R.P0) < SHADOWS_ISG_QUAD_SAME;
@@ -38,11 +37,7 @@ void main() {
     } else if (d < 0.0) {  // no occluder within reach: the hard shadow stands
       out_ = texelFetch(shadow_in, int(i)).r;
     } else {
-      float Rs = penumbra(d, R.D);
-      float Rg_raw = Rs / R.pix;
-      clamped = clamped || Rg_raw > pc.max_radius;
-      float Rg = min(Rg_raw, pc.max_radius);
-      listed = !(Rg >= SHADOWS_ISG_REUSE_RADIUS && reuse(l, nt, tile, R.P0, Rg, out_));
+      listed = !lent(l, nt, tile, R, d, clamped, out_);
     }
   }
   if (listed) {

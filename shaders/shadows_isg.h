@@ -305,4 +305,18 @@ bool reuse(uvec2 l, uint nt, uint tile, vec3 P0, float Rg, out float m) {
   return ws >= SHADOWS_ISG_REUSE_COVER;
 }
 
+// Eq. 5 and 8 in pixels at the receiver: the penumbra radius an occluder at distance d casts,
+// unclamped (0 where d is not positive: no occluder).
+float radius_px(Recv R, float d) { return d > 0.0 ? penumbra(d, R.D) / R.pix : 0.0; }
+// The pixel's penumbra from its mean occluder distance d ≥ 0 (eq. 8-9): true where the quads
+// around lend their gathers (reuse(), into m), false where the pixel gathers for itself;
+// `clamped` also records a radius R_g over max_radius. shadows.isg and shadows.isg.own.
+bool lent(uvec2 l, uint nt, uint tile, Recv R, float d, inout bool clamped, out float m) {
+  float Rg_raw = radius_px(R, d);
+  clamped = clamped || Rg_raw > pc.max_radius;
+  float Rg = min(Rg_raw, pc.max_radius);
+  m = 0.0;
+  return Rg >= SHADOWS_ISG_REUSE_RADIUS && reuse(l, nt, tile, R.P0, Rg, m);
+}
+
 #endif

@@ -22,15 +22,13 @@ void main() {
   bool gathers = !search_own, clamped = false;
   if (search_own) {
     float d_loc = uintBitsToFloat(tiles[SHADOWS_ISG_AT_DLOC(nt) + tile]);
-    float Rp_raw = d_loc > 0.0 ? penumbra(d_loc, R.D) / R.pix : 0.0;
+    float Rp_raw = radius_px(R, d_loc);
     clamped = Rp_raw > pc.max_radius;
     d = search(R, p, i, Rp_raw);
-    if (d >= 0.0) {
-      float Rg_raw = penumbra(d, R.D) / R.pix;
-      clamped = clamped || Rg_raw > pc.max_radius;
-      float Rg = min(Rg_raw, pc.max_radius);
-      gathers = !(Rg >= SHADOWS_ISG_REUSE_RADIUS && reuse(l, nt, tile, R.P0, Rg, out_));
-    }
+    float m;
+    bool lends = d >= 0.0 && lent(l, nt, tile, R, d, clamped, m);
+    if (lends) out_ = m;
+    gathers = d >= 0.0 && !lends;  // d < 0: no occluder within reach, the hard shadow stands
   }
   if (gathers) out_ = gather(R, p, i, penumbra(d, R.D));
   soft[i] = out_;

@@ -32,7 +32,7 @@ void main() {
   bool wide = false;
   if (r != SHADOWS_ISG_NO_REP) {
     Recv Rr = receiver(rp, texelFetch(pack, int(r)).xyz);
-    float Rp = d_loc > 0.0 ? penumbra(d_loc, Rr.D) / Rr.pix : 0.0;
+    float Rp = radius_px(Rr, d_loc);
     vec2 s = vec2(0.0);
     for (uint part = 0u; part < QUAD_PARTS; ++part) s += search_sums(Rr, rp, r, Rp, part, QUAD_PARTS);
     d = search_mean(s);

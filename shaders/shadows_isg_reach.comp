@@ -30,8 +30,7 @@ void main() {
   vec4 t0 = inside ? texelFetch(pack, int(i)) : vec4(SHADOWS_ISG_BACKGROUND);
   if (foreground(t0)) {
     Recv R = receiver(p, t0.xyz);
-    float Rp_max = d_max > 0.0 ? penumbra(d_max, R.D) / R.pix : 0.0;
-    atomicMax(s_rp, floatBitsToUint(min(Rp_max, pc.max_radius)));
+    atomicMax(s_rp, floatBitsToUint(min(radius_px(R, d_max), pc.max_radius)));
   }
   barrier();
   // The tiles the search and the gather can reach (radius + 1 for the bilinear taps).
