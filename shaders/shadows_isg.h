@@ -172,7 +172,6 @@ vec2 search_sums(Recv R, uvec2 p, uint i, float Rp, uint part, uint parts) {
   return vec2(sw, swd);
 }
 float search_mean(vec2 s) { return s.x > 0.0 ? s.y / s.x : -1.0; }
-float search(Recv R, uvec2 p, uint i, float Rp) { return search_mean(search_sums(R, p, i, Rp, 0u, 1u)); }
 
 // A tap's share of p_0's irradiance (issue 19), relative to the light's centre. Through an
 // occluder at distance d, the tap at offset cs across the light direction (its cross-section
@@ -259,10 +258,6 @@ vec2 gather_sums(Recv R, uvec2 p, uint i, float Rs, uint part, uint parts) {
   }
   return vec2(sum, ws);
 }
-float gather(Recv R, uvec2 p, uint i, float Rs) {
-  vec2 s = gather_sums(R, p, i, Rs, 0u, 1u);
-  return s.x / s.y;
-}
 
 // The tile's listing (shadows.isg.list): workgroup k of a dispatch over the listed tiles (a grid
 // tiles_x wide) is tile tiles[list + k]; false past the list's end (the last row's rest).
@@ -277,7 +272,39 @@ bool listed_tile(out uint tile, out uvec2 wg, out uint nt) {
 }
 // Quad q of a tile (QUADS x QUADS of them, row-major; a quad is 2x2 pixels): its record.
 #define QUADS (SHADOWS_ISG_TILE / 2u)
-#define QUAD_PARTS 4u  // the quads' search and gather sums, each as four strided partial sums
+// The searches and gathers of shadows.isg.quads and .own: a lane a sum (one pixel's or quad's)
+// on a CPU device (lavapipe: a lane's fixed cost paid once, a vector of 8 lanes running every
+// lane's loop masked); on a GPU SHADOWS_ISG_PART_LANES lanes a sum, each a strided part of it
+// added in order over their subgroup quad (4x the lanes, each a quarter of the loop; with a lane a
+// sum .quads and .own took 0.119 + 0.102 of the H200's 0.254 ms at 1080p). The two orders of the
+// additions agree within float rounding (tests/gpu/test_shadows_isg.cpp runs both).
+#ifdef SHADOWS_ISG_PARTED
+// The lanes of a sum (1 or SHADOWS_ISG_PART_LANES): gpu::Kernel's specialization constant 1, the
+// workgroup SHADOWS_ISG_PARTED sums wide.
+layout(constant_id = 1) const uint PART_LANES = 1u;
+layout(local_size_x = SHADOWS_ISG_PARTED, local_size_y_id = 1) in;
+// The lane's sum within the workgroup and its part of it. With SHADOWS_ISG_PART_LANES, a sum's
+// lanes are a subgroup quad (invocations 4k..4k+3 of a subgroup; subgroups are whole, the
+// workgroup being a multiple of the subgroup size on the devices isg runs on).
+uint sum_slot() {
+  return PART_LANES == 1u ? gl_LocalInvocationIndex
+                          : (gl_SubgroupID * gl_SubgroupSize + gl_SubgroupInvocationID) / PART_LANES;
+}
+uint sum_part() { return PART_LANES == 1u ? 0u : gl_SubgroupInvocationID % PART_LANES; }
+// The sum from the lane's part: the parts added in order over the subgroup quad (the quad
+// broadcast's index a constant).
+vec2 parts_added(vec2 mine) {
+  if (PART_LANES == 1u) return mine;
+  return ((subgroupQuadBroadcast(mine, 0u) + subgroupQuadBroadcast(mine, 1u)) + subgroupQuadBroadcast(mine, 2u)) +
+         subgroupQuadBroadcast(mine, 3u);
+}
+vec2 search_total(Recv R, uvec2 p, uint i, float Rp) {
+  return parts_added(search_sums(R, p, i, Rp, sum_part(), PART_LANES));
+}
+vec2 gather_total(Recv R, uvec2 p, uint i, float Rs) {
+  return parts_added(gather_sums(R, p, i, Rs, sum_part(), PART_LANES));
+}
+#endif
 uint quad_at(uint nt, uint tile, uint q) { return SHADOWS_ISG_AT_QUADS(nt) + 4u * (tile * QUADS * QUADS + q); }
 uint quad_of(uvec2 l) { return (l.y / 2u) * QUADS + l.x / 2u; }  // l: the pixel within its tile
 

@@ -37,6 +37,9 @@ ISG_IO_BEGIN
 // Pass shadows.isg.own: a lane per listed pixel, SHADOWS_ISG_OWN_LOCAL a workgroup,
 // SHADOWS_ISG_OWN_ROW workgroups a row of the dispatch.
 #define SHADOWS_ISG_OWN_LOCAL 64u
+// Passes shadows.isg.quads and .own on a GPU: the lanes that take one search or gather sum, a
+// part each (shadows_isg.h; a subgroup quad).
+#define SHADOWS_ISG_PART_LANES 4u
 #define SHADOWS_ISG_OWN_ROW 256u
 // Pass shadows.isg.list: one lane per tile.
 #define SHADOWS_ISG_LIST_LOCAL 64

@@ -1,16 +1,19 @@
 #version 450
-// Pass shadows.isg.own (method isg, step 6 of 6): a lane per pixel on the list shadows.isg made.
-// A pixel on another surface than its quad's representative searches for itself (eq. 4, 6, 7),
-// then takes its penumbra as shadows.isg would (the quads' gathers around it where they can lend
-// it); every listed pixel else gathers for itself (eq. 4, radius R_g of eq. 8-9).
+// Pass shadows.isg.own (method isg, step 6 of 6): a sum a pixel on the list shadows.isg made
+// (PART_LANES lanes a sum, shadows_isg.h). A pixel on another surface than its quad's
+// representative searches for itself (eq. 4, 6, 7), then takes its penumbra as shadows.isg would
+// (the quads' gathers around it where they can lend it); every listed pixel else gathers for
+// itself (eq. 4, radius R_g of eq. 8-9).
 #extension GL_GOOGLE_include_directive : require
+#extension GL_KHR_shader_subgroup_basic : require
+#extension GL_KHR_shader_subgroup_quad : require
+#define SHADOWS_ISG_PARTED SHADOWS_ISG_OWN_LOCAL
 #include "shadows_isg.h"
-layout(local_size_x = SHADOWS_ISG_OWN_LOCAL) in;
 
 void main() {
   uint tiles_x = (pc.width + SHADOWS_ISG_TILE - 1u) / SHADOWS_ISG_TILE;
   uint nt = tiles_x * ((pc.height + SHADOWS_ISG_TILE - 1u) / SHADOWS_ISG_TILE);
-  uint k = (gl_WorkGroupID.y * gl_NumWorkGroups.x + gl_WorkGroupID.x) * SHADOWS_ISG_OWN_LOCAL + gl_LocalInvocationIndex;
+  uint k = (gl_WorkGroupID.y * gl_NumWorkGroups.x + gl_WorkGroupID.x) * SHADOWS_ISG_OWN_LOCAL + sum_slot();
   if (k >= tiles[SHADOWS_ISG_AT_OWN_COUNT(nt)]) return;
   uint e = tiles[SHADOWS_ISG_AT_OWN(nt) + k], i = e & ~SHADOWS_ISG_OWN_SEARCH;
   bool search_own = (e & SHADOWS_ISG_OWN_SEARCH) != 0u;
@@ -24,13 +27,17 @@ void main() {
     float d_loc = uintBitsToFloat(tiles[SHADOWS_ISG_AT_DLOC(nt) + tile]);
     float Rp_raw = radius_px(R, d_loc);
     clamped = Rp_raw > pc.max_radius;
-    d = search(R, p, i, Rp_raw);
+    d = search_mean(search_total(R, p, i, Rp_raw));
     float m;
     bool lends = d >= 0.0 && lent(l, nt, tile, R, d, clamped, m);
     if (lends) out_ = m;
     gathers = d >= 0.0 && !lends;  // d < 0: no occluder within reach, the hard shadow stands
   }
-  if (gathers) out_ = gather(R, p, i, penumbra(d, R.D));
+  if (gathers) {
+    vec2 g = gather_total(R, p, i, penumbra(d, R.D));
+    out_ = g.x / g.y;
+  }
+  if (sum_part() != 0u) return;  // the sum's first lane writes and counts
   soft[i] = out_;
   // Statistics: few lanes, from tiles anywhere in the image.
   if (search_own) atomicAdd(tiles[SHADOWS_ISG_AT_STATS(nt) + SHADOWS_ISG_STAT_SEARCHES], 1u);

@@ -392,7 +392,7 @@ std::vector<gpu::Slot> isg_slots() {
 }
 }  // namespace
 
-ShadowsIsgPass::ShadowsIsgPass(gpu::Context& ctx)
+ShadowsIsgPass::ShadowsIsgPass(gpu::Context& ctx, uint32_t part_lanes)
     : ctx_(ctx),
       tiles_kernel_(ctx, "shadows.isg.tiles", isg_spv_shadows_isg_tiles,
                     {gpu::Slot::texels, gpu::Slot::texels, gpu::Slot::texels, gpu::Slot::texels,
@@ -404,12 +404,17 @@ ShadowsIsgPass::ShadowsIsgPass(gpu::Context& ctx)
                    sizeof(shaders::ShadowsIsgListPush), SHADOWS_ISG_LIST_LOCAL, 1),
       reach_kernel_(ctx, "shadows.isg.reach", isg_spv_shadows_isg_reach, isg_slots(),
                     sizeof(shaders::ShadowsIsgPush), SHADOWS_ISG_TILE, SHADOWS_ISG_TILE),
+      // .quads and .own: part_lanes_ lanes a sum (the local size's y; both run indirect).
       quads_kernel_(ctx, "shadows.isg.quads", isg_spv_shadows_isg_quads, isg_slots(),
-                    sizeof(shaders::ShadowsIsgPush), SHADOWS_ISG_TILE / 2, SHADOWS_ISG_TILE / 2),
+                    sizeof(shaders::ShadowsIsgPush), SHADOWS_ISG_TILE * SHADOWS_ISG_TILE / 4, 1),
       kernel_(ctx, "shadows.isg", isg_spv_shadows_isg, isg_slots(), sizeof(shaders::ShadowsIsgPush),
               SHADOWS_ISG_TILE, SHADOWS_ISG_TILE),
       own_kernel_(ctx, "shadows.isg.own", isg_spv_shadows_isg_own, isg_slots(),
-                  sizeof(shaders::ShadowsIsgPush), SHADOWS_ISG_OWN_LOCAL, 1) {}
+                  sizeof(shaders::ShadowsIsgPush), SHADOWS_ISG_OWN_LOCAL, 1),
+      part_lanes_(part_lanes != 0 ? part_lanes
+                  : ctx.info().type == VK_PHYSICAL_DEVICE_TYPE_CPU ? 1u : SHADOWS_ISG_PART_LANES) {
+  if (part_lanes_ != 1 && part_lanes_ != SHADOWS_ISG_PART_LANES) throw gpu::GpuError("shadows.isg: part_lanes is 1 or 4");
+}
 
 ShadowsIsgPass::~ShadowsIsgPass() = default;
 
@@ -520,9 +525,10 @@ void ShadowsIsgPass::record(gpu::Sequence& seq, const ShadowSettings& s, const g
   // the quads' searches and wide gathers, the pixels, the pixels' own list.
   const VkDeviceSize tiles_args = uint64_t(SHADOWS_ISG_AT_ARGS(nt)) * 4;
   seq.dispatch_indirect(reach_kernel_.at({flags}), bind, pc, tiles, tiles_args, label + ".reach");
-  seq.dispatch_indirect(quads_kernel_.at({flags}), bind, pc, tiles, tiles_args, label + ".quads");
+  seq.dispatch_indirect(quads_kernel_.at({flags, part_lanes_}), bind, pc, tiles, tiles_args,
+                        label + ".quads");
   seq.dispatch_indirect(kernel_.at({flags}), bind, pc, tiles, tiles_args, label);
-  seq.dispatch_indirect(own_kernel_.at({flags}), bind, pc, tiles,
+  seq.dispatch_indirect(own_kernel_.at({flags, part_lanes_}), bind, pc, tiles,
                         uint64_t(SHADOWS_ISG_AT_OWN_ARGS(nt)) * 4, label + ".own");
 }
 

@@ -54,7 +54,10 @@ std::vector<float> shadows_isg_reference(const ShadowInputs& in, const ShadowSet
 
 class ShadowsIsgPass {
  public:
-  explicit ShadowsIsgPass(gpu::Context& ctx);
+  // part_lanes: the lanes that take one search or gather sum of shadows.isg.quads and .own (1 or
+  // SHADOWS_ISG_PART_LANES, shaders/shadows_isg.h; the two agree within float rounding); 0: by
+  // the device, 1 on a CPU implementation (lavapipe), SHADOWS_ISG_PART_LANES on a GPU.
+  explicit ShadowsIsgPass(gpu::Context& ctx, uint32_t part_lanes = 0);
   ~ShadowsIsgPass();
   // geo: P (has_position) or Z. `tiles` holds shadows_isg_tiles_words(w, h) words; it is
   // cleared here (a host upload, before the sequence runs). `pack` (4 planes) receives the
@@ -74,6 +77,7 @@ class ShadowsIsgPass {
   // shadows.isg's four dispatches (.reach, .quads, the pixels', .own), specialised on the
   // SHADOWS_ISG_* settings.
   gpu::KernelVariants reach_kernel_, quads_kernel_, kernel_, own_kernel_;
+  uint32_t part_lanes_;  // specialization constant 1 of .quads and .own
   std::map<std::pair<int, int>, std::unique_ptr<gpu::Buffer>> samples_;
 };
 
