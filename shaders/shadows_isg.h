@@ -274,29 +274,30 @@ bool listed_tile(out uint tile, out uvec2 wg, out uint nt) {
 #define QUADS (SHADOWS_ISG_TILE / 2u)
 // The searches and gathers of shadows.isg.quads and .own: a lane a sum (one pixel's or quad's)
 // on a CPU device (lavapipe: a lane's fixed cost paid once, a vector of 8 lanes running every
-// lane's loop masked); on a GPU SHADOWS_ISG_PART_LANES lanes a sum, each a strided part of it
-// added in order over their subgroup quad (4x the lanes, each a quarter of the loop; with a lane a
-// sum .quads and .own took 0.119 + 0.102 of the H200's 0.254 ms at 1080p). The two orders of the
-// additions agree within float rounding (tests/gpu/test_shadows_isg.cpp runs both).
+// lane's loop masked); on a GPU PART_LANES lanes a sum, each a strided part of it, the parts added
+// in order across the sum's lanes (PART_LANES times the lanes, each a 1/PART_LANES of the loop;
+// with a lane a sum .quads and .own took 0.119 + 0.102 of the H200's 0.254 ms at 1080p). The
+// orders of the additions agree within float rounding (tests/gpu/test_shadows_isg.cpp runs them).
 #ifdef SHADOWS_ISG_PARTED
-// The lanes of a sum (1 or SHADOWS_ISG_PART_LANES): gpu::Kernel's specialization constant 1, the
-// workgroup SHADOWS_ISG_PARTED sums wide.
+// The lanes of a sum (1, or a power of two up to the subgroup size): gpu::Kernel's
+// specialization constant 1, the workgroup SHADOWS_ISG_PARTED sums wide.
 layout(constant_id = 1) const uint PART_LANES = 1u;
 layout(local_size_x = SHADOWS_ISG_PARTED, local_size_y_id = 1) in;
-// The lane's sum within the workgroup and its part of it. With SHADOWS_ISG_PART_LANES, a sum's
-// lanes are a subgroup quad (invocations 4k..4k+3 of a subgroup; subgroups are whole, the
-// workgroup being a multiple of the subgroup size on the devices isg runs on).
+// The lane's sum within the workgroup and its part of it. A sum's lanes are consecutive
+// invocations of one subgroup (subgroups are whole, the workgroup being a multiple of the
+// subgroup size on the devices isg runs on).
 uint sum_slot() {
   return PART_LANES == 1u ? gl_LocalInvocationIndex
                           : (gl_SubgroupID * gl_SubgroupSize + gl_SubgroupInvocationID) / PART_LANES;
 }
 uint sum_part() { return PART_LANES == 1u ? 0u : gl_SubgroupInvocationID % PART_LANES; }
-// The sum from the lane's part: the parts added in order over the subgroup quad (the quad
-// broadcast's index a constant).
+// The sum from the lane's part: the parts added in order.
 vec2 parts_added(vec2 mine) {
   if (PART_LANES == 1u) return mine;
-  return ((subgroupQuadBroadcast(mine, 0u) + subgroupQuadBroadcast(mine, 1u)) + subgroupQuadBroadcast(mine, 2u)) +
-         subgroupQuadBroadcast(mine, 3u);
+  uint first = gl_SubgroupInvocationID - sum_part();
+  vec2 s = subgroupShuffle(mine, first);
+  for (uint k = 1u; k < PART_LANES; ++k) s += subgroupShuffle(mine, first + k);
+  return s;
 }
 vec2 search_total(Recv R, uvec2 p, uint i, float Rp) {
   return parts_added(search_sums(R, p, i, Rp, sum_part(), PART_LANES));

@@ -6,7 +6,7 @@
 // itself (eq. 4, radius R_g of eq. 8-9).
 #extension GL_GOOGLE_include_directive : require
 #extension GL_KHR_shader_subgroup_basic : require
-#extension GL_KHR_shader_subgroup_quad : require
+#extension GL_KHR_shader_subgroup_shuffle : require
 #define SHADOWS_ISG_PARTED SHADOWS_ISG_OWN_LOCAL
 #include "shadows_isg.h"
 

@@ -7,7 +7,7 @@
 #extension GL_GOOGLE_include_directive : require
 #extension GL_KHR_shader_subgroup_arithmetic : require
 #extension GL_KHR_shader_subgroup_basic : require
-#extension GL_KHR_shader_subgroup_quad : require
+#extension GL_KHR_shader_subgroup_shuffle : require
 #define SHADOWS_ISG_PARTED (SHADOWS_ISG_TILE * SHADOWS_ISG_TILE / 4u)  // the tile's quads
 #include "shadows_isg.h"
 

@@ -223,20 +223,21 @@ Context::Context(const ContextOptions& opt) : user_callback_(opt.on_message) {
     }
     // Subgroup reductions (subgroupOr, subgroupMax, subgroupAdd) stand in for shared-memory
     // barriers where a pass only reduces (shadows.isg.tiles; the statistics of reflections.isg's
-    // dispatches), and quad broadcasts add the parts of shadows.isg's sums on GPUs: Vulkan 1.1
-    // devices, lavapipe included, have them.
+    // dispatches), and shuffles add the parts of shadows.isg's sums on GPUs: Vulkan 1.1 devices,
+    // lavapipe included, have them.
     VkPhysicalDeviceSubgroupProperties sg{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_SUBGROUP_PROPERTIES};
     VkPhysicalDeviceProperties2 p2{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_PROPERTIES_2};
     p2.pNext = &sg;
     constexpr VkSubgroupFeatureFlags kNeeded =
-        VK_SUBGROUP_FEATURE_BASIC_BIT | VK_SUBGROUP_FEATURE_ARITHMETIC_BIT | VK_SUBGROUP_FEATURE_QUAD_BIT;
+        VK_SUBGROUP_FEATURE_BASIC_BIT | VK_SUBGROUP_FEATURE_ARITHMETIC_BIT | VK_SUBGROUP_FEATURE_SHUFFLE_BIT;
     if (info_.api_version >= VK_API_VERSION_1_1) vkGetPhysicalDeviceProperties2(physical_, &p2);
     if (info_.api_version < VK_API_VERSION_1_1 ||
         !(sg.supportedStages & VK_SHADER_STAGE_COMPUTE_BIT) ||
         (sg.supportedOperations & kNeeded) != kNeeded) {
-      throw GpuError("device " + info_.name + " has no subgroup arithmetic and quad operations in compute " +
+      throw GpuError("device " + info_.name + " has no subgroup arithmetic and shuffles in compute " +
                      "(Vulkan 1.1), which isg needs");
     }
+    info_.subgroup_size = sg.subgroupSize;
     bool ts = false;
     int fam = compute_family(physical_, &ts);
     if (fam < 0) throw GpuError("device " + info_.name + " has no compute queue");

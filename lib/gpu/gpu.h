@@ -37,6 +37,7 @@ struct DeviceInfo {
   uint64_t device_local_bytes = 0;
   bool timestamps = false;
   bool float64 = false;  // shaderFloat64, enabled where present (VSSM's moments use it)
+  uint32_t subgroup_size = 1;  // lanes of a subgroup in compute shaders
 };
 
 struct ContextOptions {

@@ -412,8 +412,15 @@ ShadowsIsgPass::ShadowsIsgPass(gpu::Context& ctx, uint32_t part_lanes)
       own_kernel_(ctx, "shadows.isg.own", isg_spv_shadows_isg_own, isg_slots(),
                   sizeof(shaders::ShadowsIsgPush), SHADOWS_ISG_OWN_LOCAL, 1),
       part_lanes_(part_lanes != 0 ? part_lanes
-                  : ctx.info().type == VK_PHYSICAL_DEVICE_TYPE_CPU ? 1u : SHADOWS_ISG_PART_LANES) {
-  if (part_lanes_ != 1 && part_lanes_ != SHADOWS_ISG_PART_LANES) throw gpu::GpuError("shadows.isg: part_lanes is 1 or 4");
+                  : ctx.info().type == VK_PHYSICAL_DEVICE_TYPE_CPU
+                      ? 1u
+                      : std::min(SHADOWS_ISG_PART_LANES, ctx.info().subgroup_size)) {
+  // A sum's lanes lie within one subgroup (shaders/shadows_isg.h).
+  if (part_lanes_ == 0 || (part_lanes_ & (part_lanes_ - 1)) != 0 ||
+      part_lanes_ > std::max(ctx.info().subgroup_size, 1u))
+    throw gpu::GpuError("shadows.isg: " + std::to_string(part_lanes_) +
+                        " lanes a sum is not a power of two up to the subgroup size (" +
+                        std::to_string(ctx.info().subgroup_size) + ")");
 }
 
 ShadowsIsgPass::~ShadowsIsgPass() = default;

@@ -54,9 +54,10 @@ std::vector<float> shadows_isg_reference(const ShadowInputs& in, const ShadowSet
 
 class ShadowsIsgPass {
  public:
-  // part_lanes: the lanes that take one search or gather sum of shadows.isg.quads and .own (1 or
-  // SHADOWS_ISG_PART_LANES, shaders/shadows_isg.h; the two agree within float rounding); 0: by
-  // the device, 1 on a CPU implementation (lavapipe), SHADOWS_ISG_PART_LANES on a GPU.
+  // part_lanes: the lanes that take one search or gather sum of shadows.isg.quads and .own (a
+  // power of two up to the subgroup size, shaders/shadows_isg.h; any two agree within float
+  // rounding); 0: by the device, 1 on a CPU implementation (lavapipe), SHADOWS_ISG_PART_LANES (or
+  // the subgroup size, if smaller) on a GPU.
   explicit ShadowsIsgPass(gpu::Context& ctx, uint32_t part_lanes = 0);
   ~ShadowsIsgPass();
   // geo: P (has_position) or Z. `tiles` holds shadows_isg_tiles_words(w, h) words; it is
