@@ -333,6 +333,27 @@ bool reuse(uvec2 l, uint nt, uint tile, vec3 P0, float Rg, out float m) {
   return ws >= SHADOWS_ISG_REUSE_COVER;
 }
 
+// The mean occluder distance of the quads around the pixel's own in its tile (the 3x3 about it)
+// whose search found one and whose representative lies on the pixel's surface, where at least
+// SHADOWS_ISG_BORROW_MIN of them did; -1 else. For a pixel whose quad's search found none
+// (issue 19: lit specks in wide penumbrae). shadows.isg and shadows.isg.own.
+float borrowed_d(uvec2 l, uint nt, uint tile, vec3 P0) {
+  ivec2 qc = ivec2(l / 2u);
+  float sd = 0.0;
+  uint n = 0u;
+  for (int dy = -1; dy <= 1; ++dy)
+    for (int dx = -1; dx <= 1; ++dx) {
+      ivec2 qn = qc + ivec2(dx, dy);
+      if (qn.x < 0 || qn.y < 0 || qn.x >= int(QUADS) || qn.y >= int(QUADS)) continue;
+      uint at = quad_at(nt, tile, uint(qn.y) * QUADS + uint(qn.x));
+      float d = uintBitsToFloat(tiles[at + 1u]);
+      if (!(d >= 0.0) || same_surface(tiles[at], P0) < SHADOWS_ISG_QUAD_SAME) continue;
+      sd += d;
+      ++n;
+    }
+  return n >= uint(SHADOWS_ISG_BORROW_MIN) ? sd / float(n) : -1.0;
+}
+
 // Eq. 5 and 8 in pixels at the receiver: the penumbra radius an occluder at distance d casts,
 // unclamped (0 where d is not positive: no occluder).
 float radius_px(Recv R, float d) { return d > 0.0 ? penumbra(d, R.D) / R.pix : 0.0; }

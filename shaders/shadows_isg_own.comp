@@ -3,7 +3,8 @@
 // (PART_LANES lanes a sum, shadows_isg.h). A pixel on another surface than its quad's
 // representative searches for itself (eq. 4, 6, 7), then takes its penumbra as shadows.isg would
 // (the quads' gathers around it where they can lend it); every listed pixel else gathers for
-// itself (eq. 4, radius R_g of eq. 8-9).
+// itself (eq. 4, radius R_g of eq. 8-9) from its quad's mean occluder distance, or from the one
+// the quads around lent it (SHADOWS_ISG_OWN_BORROW: borrowed_d).
 #extension GL_GOOGLE_include_directive : require
 #extension GL_KHR_shader_subgroup_basic : require
 #extension GL_KHR_shader_subgroup_shuffle : require
@@ -15,13 +16,15 @@ void main() {
   uint nt = tiles_x * ((pc.height + SHADOWS_ISG_TILE - 1u) / SHADOWS_ISG_TILE);
   uint k = (gl_WorkGroupID.y * gl_NumWorkGroups.x + gl_WorkGroupID.x) * SHADOWS_ISG_OWN_LOCAL + sum_slot();
   if (k >= tiles[SHADOWS_ISG_AT_OWN_COUNT(nt)]) return;
-  uint e = tiles[SHADOWS_ISG_AT_OWN(nt) + k], i = e & ~SHADOWS_ISG_OWN_SEARCH;
+  uint e = tiles[SHADOWS_ISG_AT_OWN(nt) + k], i = e & ~(SHADOWS_ISG_OWN_SEARCH | SHADOWS_ISG_OWN_BORROW);
   bool search_own = (e & SHADOWS_ISG_OWN_SEARCH) != 0u;
   uvec2 p = uvec2(i % pc.width, i / pc.width), wg = p / SHADOWS_ISG_TILE, l = p % SHADOWS_ISG_TILE;
   uint tile = wg.y * tiles_x + wg.x;
   Recv R = receiver(p, texelFetch(pack, int(i)).xyz);
   uint at = quad_at(nt, tile, quad_of(l));
-  float d = uintBitsToFloat(tiles[at + 1u]), out_ = texelFetch(shadow_in, int(i)).r;
+  // The quad's mean occluder distance, or the one shadows.isg borrowed from the quads around.
+  float d = (e & SHADOWS_ISG_OWN_BORROW) != 0u ? borrowed_d(l, nt, tile, R.P0) : uintBitsToFloat(tiles[at + 1u]);
+  float out_ = texelFetch(shadow_in, int(i)).r;
   bool gathers = !search_own, clamped = false;
   if (search_own) {
     float d_loc = uintBitsToFloat(tiles[SHADOWS_ISG_AT_DLOC(nt) + tile]);

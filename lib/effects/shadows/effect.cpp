@@ -362,7 +362,9 @@ class Shadows final : public Effect {
               percent(r.get("dispatched") / r.get("tiles")) + "% of them), " +
               std::to_string(uint64_t(r.get("full_pixels"))) + " pixels searched and gathered, " +
               std::to_string(uint64_t(r.get("clamped_pixels"))) +
-              " needed a radius over shadows.max_radius (clamped)"};
+              " needed a radius over shadows.max_radius (clamped), " +
+              std::to_string(uint64_t(r.get("borrowed"))) +
+              " took the occluder distance of the quads around theirs (whose search found none)"};
     }
     const double px = r.get("pixels");
     char mib[32];

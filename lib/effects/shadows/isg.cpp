@@ -347,6 +347,24 @@ std::vector<float> shadows_isg_reference(const ShadowInputs& in, const ShadowSet
         m = ws > 0.0 ? sum / ws : 0.0;
         return ws >= SHADOWS_ISG_REUSE_COVER;
       };
+      // A quad whose search found no occluder takes the mean occluder distance of the quads
+      // around it (the 3x3 in the tile) whose search found one, on the pixel's surface, where
+      // at least SHADOWS_ISG_BORROW_MIN did (the shader's borrowed_d); -1 else.
+      auto borrowed = [&](int x, int y, V3 P0) {
+        const int qx = (x - x0) / 2, qy = (y - y0) / 2;
+        double sd = 0.0;
+        int found = 0;
+        for (int dy = -1; dy <= 1; ++dy)
+          for (int dx = -1; dx <= 1; ++dx) {
+            const int nx = qx + dx, ny = qy + dy;
+            if (nx < 0 || ny < 0 || nx >= kQuads || ny >= kQuads) continue;
+            const Quad& N = quads[size_t(ny) * kQuads + size_t(nx)];
+            if (!(N.d >= 0.0) || !same_surface(N.rep, P0)) continue;
+            sd += N.d;
+            ++found;
+          }
+        return found >= SHADOWS_ISG_BORROW_MIN ? sd / found : -1.0;
+      };
       for (int y = y0; y < y1; ++y) {
         for (int x = x0; x < x1; ++x) {
           const size_t i = size_t(y) * in.w + x;
@@ -358,7 +376,12 @@ std::vector<float> shadows_isg_reference(const ShadowInputs& in, const ShadowSet
           // The search: the quad representative's, unless the pixel lies on another surface.
           const Quad& Q = quads[size_t((y - y0) / 2) * kQuads + size_t((x - x0) / 2)];
           double d = Q.d;
-          if (Q.rep != i && !same_surface(Q.rep, R.P0)) d = search(x, y, R, Rp_raw), ++st.searches;
+          if (Q.rep != i && !same_surface(Q.rep, R.P0)) {
+            d = search(x, y, R, Rp_raw), ++st.searches;
+          } else if (d < 0.0) {
+            d = borrowed(x, y, R.P0);
+            if (d >= 0.0) ++st.borrowed;
+          }
           if (d >= 0.0) {
             // Eq. 8-9.
             const double Rs = c.penumbra(d, R.D);
@@ -449,6 +472,9 @@ void ShadowsIsgPass::record(gpu::Sequence& seq, const ShadowSettings& s, const g
                             const gpu::Buffer& fg, gpu::Buffer& tiles, const gpu::Buffer& pack,
                             const gpu::Buffer& soft, uint32_t w, uint32_t h,
                             const std::string& label) {
+  if (uint64_t(w) * h > SHADOWS_ISG_OWN_BORROW)  // the pixels' list keeps two flags in an index
+    throw gpu::GpuError("shadows.isg: a window of " + std::to_string(uint64_t(w) * h) +
+                        " pixels is over the pass's limit of 2^30");
   shaders::ShadowsIsgPush pc{};
   pc.width = w;
   pc.height = h;
@@ -553,6 +579,7 @@ ShadowIsgStats ShadowsIsgPass::stats(const gpu::Buffer& tiles, uint32_t w, uint3
   st.clamped_pixels = t[SHADOWS_ISG_AT_STATS(nt) + SHADOWS_ISG_STAT_CLAMPED];
   st.full_pixels = t[SHADOWS_ISG_AT_STATS(nt) + SHADOWS_ISG_STAT_FULL];
   st.searches = t[SHADOWS_ISG_AT_STATS(nt) + SHADOWS_ISG_STAT_SEARCHES];
+  st.borrowed = t[SHADOWS_ISG_AT_STATS(nt) + SHADOWS_ISG_STAT_BORROWED];
   st.gathers = t[SHADOWS_ISG_AT_STATS(nt) + SHADOWS_ISG_STAT_GATHERS];
   return st;
 }

@@ -44,6 +44,8 @@ struct ShadowIsgStats {
   uint64_t searches = 0;        // parameter searches (one per 2x2 quad, more at edges)
   uint64_t gathers = 0;         // gathers (one per quad for wide penumbrae, more at edges)
   uint64_t clamped_pixels = 0;  // pixels whose search or gather radius exceeded max_radius
+  uint64_t borrowed = 0;        // pixels that took the quads' around occluder distance (their
+                                // quad's search found none: SHADOWS_ISG_BORROW_MIN)
   double d_max = 0;             // the largest occluder distance
 };
 

@@ -73,6 +73,7 @@ class ShadowsRecorder final : public Recorder {
       r.sum("dispatched", t.dispatched_fraction);
       r.sum("full_pixels", double(t.full_pixels));
       r.sum("clamped_pixels", double(t.clamped_pixels));
+      r.sum("borrowed", double(t.borrowed));
       out.reports.push_back(r);
       const auto& s = *inst.isg;
       out.gathers.push_back({f.isg_label, t.full_pixels,
