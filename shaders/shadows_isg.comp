@@ -37,11 +37,9 @@ void main() {
       listed = true;
     } else if (d < 0.0) {
       // No occluder within the quad's reach: the hard shadow stands, unless the quads around
-      // found one (borrowed_d).
+      // found one (shadows.isg.own: borrowed_d).
       out_ = texelFetch(shadow_in, int(i)).r;
-      float db = borrowed_d(l, nt, tile, R.P0);
-      borrow = db >= 0.0;
-      if (borrow) listed = !lent(l, nt, tile, R, db, clamped, out_);
+      borrow = listed = may_borrow(l, nt, tile);
     } else {
       listed = !lent(l, nt, tile, R, d, clamped, out_);
     }
@@ -57,9 +55,7 @@ void main() {
   }
   // Statistics (the pixels that search for themselves count theirs in shadows.isg.own).
   uint n_full = subgroupAdd(full ? 1u : 0u), n_clamped = subgroupAdd(clamped && !search_own ? 1u : 0u);
-  uint n_borrowed = subgroupAdd(borrow ? 1u : 0u);
   if (subgroupElect()) {
-    if (n_borrowed != 0u) atomicAdd(tiles[SHADOWS_ISG_AT_STATS(nt) + SHADOWS_ISG_STAT_BORROWED], n_borrowed);
     if (n_full != 0u) atomicAdd(tiles[SHADOWS_ISG_AT_STATS(nt) + SHADOWS_ISG_STAT_FULL], n_full);
     if (n_clamped != 0u) atomicAdd(tiles[SHADOWS_ISG_AT_STATS(nt) + SHADOWS_ISG_STAT_CLAMPED], n_clamped);
   }
