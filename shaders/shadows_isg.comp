@@ -7,8 +7,9 @@
 // it. A pixel that searches or gathers for itself joins the list shadows.isg.own finishes: on
 // lavapipe every lane would run, masked, the loops of the few that need them. The hard shadow
 // stands where no occluder is within reach of the quad's search, nor of those of
-// SHADOWS_ISG_BORROW_MIN quads around it on its surface (borrowed_d). lib/effects/shadows/isg.cpp mirrors every step in
-// double; shaders/shadows_isg.h holds what the dispatches share.
+// SHADOWS_ISG_BORROW_MIN quads around it on its surface (borrowed_d).
+// lib/effects/shadows/isg.cpp mirrors every step in double; shaders/shadows_isg.h holds what the
+// dispatches share.
 #extension GL_GOOGLE_include_directive : require
 #extension GL_KHR_shader_subgroup_arithmetic : require
 #extension GL_KHR_shader_subgroup_basic : require

@@ -354,9 +354,10 @@ float borrowed_d(uvec2 l, uint nt, uint tile, vec3 P0) {
     }
   return n >= uint(SHADOWS_ISG_BORROW_MIN) ? sd / float(n) : -1.0;
 }
-// Whether borrowed_d can find enough quads, their surfaces not yet looked at: the records' distances
-// alone, so that shadows.isg, where every lane of a group runs what one needs on lavapipe,
-// pays no more than their loads (the pixel pass 9.4 -> 17.7 ms at 1080p with borrowed_d there).
+// Whether borrowed_d can find enough quads, their surfaces not yet looked at: the records'
+// distances alone, so that shadows.isg, where every lane of a group runs what one needs on
+// lavapipe, pays no more than their loads (the pixel pass 9.4 -> 13 ms at 1080p isg-synth
+// contact; 17.7 with borrowed_d there).
 bool may_borrow(uvec2 l, uint nt, uint tile) {
   ivec2 qc = ivec2(l / 2u);
   uint n = 0u;
