@@ -333,41 +333,40 @@ bool reuse(uvec2 l, uint nt, uint tile, vec3 P0, float Rg, out float m) {
   return ws >= SHADOWS_ISG_REUSE_COVER;
 }
 
-// The mean occluder distance of the quads around the pixel's own in its tile (the 3x3 about it)
-// whose search found one and whose representative lies on the pixel's surface, where at least
-// SHADOWS_ISG_BORROW_MIN of them did; -1 else. For a pixel whose quad's search found none
-// (issue 19: lit specks in wide penumbrae). shadows.isg.own; shadows.isg lists the pixels for
-// which may_borrow() holds.
-float borrowed_d(uvec2 l, uint nt, uint tile, vec3 P0) {
+// The quads around the pixel's own in its tile (the 3x3 about it, l its place in the tile) whose
+// search found an occluder, their representatives on the pixel's surface (eq. 6 weight ≥
+// SHADOWS_ISG_QUAD_SAME) where `surfaces` holds: how many, and the sum of their distances.
+uint found_around(uvec2 l, uint nt, uint tile, vec3 P0, bool surfaces, out float sd) {
   ivec2 qc = ivec2(l / 2u);
-  float sd = 0.0;
   uint n = 0u;
+  sd = 0.0;
   for (int dy = -1; dy <= 1; ++dy)
     for (int dx = -1; dx <= 1; ++dx) {
       ivec2 qn = qc + ivec2(dx, dy);
       if (qn.x < 0 || qn.y < 0 || qn.x >= int(QUADS) || qn.y >= int(QUADS)) continue;
       uint at = quad_at(nt, tile, uint(qn.y) * QUADS + uint(qn.x));
       float d = uintBitsToFloat(tiles[at + 1u]);
-      if (!(d >= 0.0) || same_surface(tiles[at], P0) < SHADOWS_ISG_QUAD_SAME) continue;
+      if (!(d >= 0.0) || (surfaces && same_surface(tiles[at], P0) < SHADOWS_ISG_QUAD_SAME)) continue;
       sd += d;
       ++n;
     }
+  return n;
+}
+// For a pixel whose quad's search found no occluder (issue 19: lit specks in wide penumbrae): the
+// mean distance of the quads around on its surface where at least SHADOWS_ISG_BORROW_MIN found
+// one, -1 else (shadows.isg.own).
+float borrowed_d(uvec2 l, uint nt, uint tile, vec3 P0) {
+  float sd;
+  uint n = found_around(l, nt, tile, P0, true, sd);
   return n >= uint(SHADOWS_ISG_BORROW_MIN) ? sd / float(n) : -1.0;
 }
 // Whether borrowed_d can find enough quads, their surfaces not yet looked at: the records'
 // distances alone, so that shadows.isg, where every lane of a group runs what one needs on
 // lavapipe, pays no more than their loads (the pixel pass 9.4 -> 13 ms at 1080p isg-synth
-// contact; 17.7 with borrowed_d there).
+// contact; 17.7 with borrowed_d there). shadows.isg lists the pixels for which it holds.
 bool may_borrow(uvec2 l, uint nt, uint tile) {
-  ivec2 qc = ivec2(l / 2u);
-  uint n = 0u;
-  for (int dy = -1; dy <= 1; ++dy)
-    for (int dx = -1; dx <= 1; ++dx) {
-      ivec2 qn = qc + ivec2(dx, dy);
-      if (qn.x < 0 || qn.y < 0 || qn.x >= int(QUADS) || qn.y >= int(QUADS)) continue;
-      if (uintBitsToFloat(tiles[quad_at(nt, tile, uint(qn.y) * QUADS + uint(qn.x)) + 1u]) >= 0.0) ++n;
-    }
-  return n >= uint(SHADOWS_ISG_BORROW_MIN);
+  float sd;
+  return found_around(l, nt, tile, vec3(0.0), false, sd) >= uint(SHADOWS_ISG_BORROW_MIN);
 }
 
 // Eq. 5 and 8 in pixels at the receiver: the penumbra radius an occluder at distance d casts,
