@@ -95,8 +95,8 @@ def measure(t, label, case, methods, outs):
             if out is None and inp == "P" and (label == ORIGIN or is_far(label)):
                 out = os.path.join(t.tmp, f"{os.path.basename(case)}-{key}.exr")
             try:
-                # From P: P's positions as they are (input.positions=P), but for auto, which keeps
-                # every default (input.positions=auto too: Z where P's float32 step is coarse).
+                # From P: P's positions (input.positions=P: refitted where P's float32 step is
+                # coarse), but for auto, which keeps every default (input.positions=auto too).
                 pos = ["input.positions=P"] if inp == "P" and m != "auto" else []
                 r = run_isg(t, case, [f"shadows.method={m}", "reflections.method=none", "dof.method=none"] + pos + a.set,
                             out=out, aovs=aovs)
@@ -200,9 +200,10 @@ def report(res):
          "(`tools/cases/`, rendered outside the repository; see tools/cases/README.md). Number: RMSE of "
          "`key.softshadow` against the reference's `key.softshadow` over its `mask`, divided by the RMSE of doing "
          "nothing (the input's hard `key.shadow`); below 1 is better than doing nothing, **bold** is not. "
-         "P: positions from the P channels (`input.positions=P`); Z: the same AOVs without P, positions formed "
-         "from Z and the camera. auto P keeps every default, `input.positions=auto` too (Z where P's float32 step "
-         "is wider than a pixel at a scene radius from the camera, here at 1e6 m from the origin). "
+         "P: positions from the P channels (`input.positions=P`; refitted into a planar depth where P's float32 "
+         "step is wider than a pixel at a scene radius from the camera, here at 1e6 m from the origin); Z: the "
+         "same AOVs without P, positions formed from Z and the camera. auto P keeps every default, "
+         "`input.positions=auto` too (P where the input has it). "
          "Default settings of every method; reflections and depth of field off.", "",
          f"Machine: {res['machine']}; device: {res.get('device', '?')}.", "",
          "| case | hard RMSE | " + " | ".join(f"{m} P | {m} Z" for m in methods) + " |",

@@ -1,8 +1,10 @@
 #include "run/job.h"
 
+#include "effects/composite/effect.h"
 #include "effects/output_params.h"
 #include "effects/view.h"
 #include "io/color.h"
+#include "run/positions.h"
 
 #include <algorithm>
 #include <chrono>
@@ -20,19 +22,22 @@ using Clock = std::chrono::steady_clock;
 
 namespace {
 
-// input.positions (issue 19): positions from P, or from Z and the camera. auto (the default)
-// takes Z where P's float32 step (2^-23 of its magnitude rounded down to a power of two, which
-// far from the world origin is the eye's) is wider than a pixel at a scene radius from the
-// camera: every effect then works from camera-relative depth, which keeps its precision
-// wherever the scene stands. Under a pixel P stays, consistent with a shadow map the renderer
-// computed in the same float32 world. Own Cycles renders of contact at 480x270 (a pixel 0.019 m
-// at 10 m; ratio to doing nothing, P against Z): 1e5 m from the origin (step 0.0078 m) pcss 0.26
-// against 0.37, vssm 0.27 against 0.38; 1e6 m (0.0625 m) pcss 0.82 against 0.77, cssm 0.97
-// against 0.77; the contact case translated by 1e6 (its map exact) pcss 0.50 against 0.23.
-// Said in the output's isg:positions (prepare_pixels: the header read here is replaced by the
-// pixels).
+// input.positions (issue 19): positions from P, or from Z and the camera. P's float32 step
+// (2^-23 of its magnitude rounded down to a power of two, which far from the world origin is the
+// eye's) wider than a pixel at a scene radius from the camera misplaces positions by pixels (1e6 m
+// from the origin, 6.25 cm against 1.9 cm at 480x270): there P is refitted (run/positions.h) into a
+// planar depth that every effect then takes, with the camera, for its positions, depth and
+// foreground. Under a pixel P stays as it is, consistent with a shadow map the renderer computed
+// in the same float32 world. Own Cycles renders of contact at 480x270, ratio to doing nothing
+// from P as stored / P refitted / Z (isg, pcss, vssm, cssm): 1e6 m from the origin 0.62 / 0.56 /
+// 0.58, 0.82 / 0.57 / 0.77, 0.82 / 0.56 / 0.76, 0.79 / 0.72 / 0.69; the contact case translated by
+// 1e6 (its map exact; at the origin 0.35, 0.23, 0.24, 0.27) 0.48 / 0.36 / 0.35, 0.50 / 0.24 / 0.23,
+// 0.44 / 0.25 / 0.24, 0.56 / 0.27 / 0.27; 1e5 m away (step 0.0078 m, P as stored) pcss 0.26
+// against 0.37 from Z. Z (input.positions=Z) is taken as it is. Said in the output's
+// isg:positions (prepare_pixels: the header read here is replaced by the pixels).
 void choose_positions(const JobConfig& job, LoadedFrame& f) {
-  if (!f.roles.has("position") || !f.roles.has("depth") || !f.camera) return;
+  f.refit_radius = 0;
+  if (!f.roles.has("position") || !f.camera) return;
   const std::string how = job.params.get(effects::output_keys::positions);
   const auto view = effects::PinholeView::of(*f.camera, std::max(f.img.height, 1));
   const auto& eye = view.eye;
@@ -40,14 +45,47 @@ void choose_positions(const JobConfig& job, LoadedFrame& f) {
                      job.scene.scene_radius;
   const double step = effects::float32_step(m_p);
   const double pixel = job.scene.scene_radius / view.f_px;
-  const bool use_z = how == "Z" || (how == "auto" && step > pixel);
-  if (!use_z) return;
-  f.roles.found.erase("position");
   std::ostringstream note;
-  note << "Z and the camera (input.positions=" << how << "; P's float32 step " << step
-       << " m, a pixel " << pixel << " m at a scene radius, Z's step "
-       << effects::float32_step(2.0 * job.scene.scene_radius) << " m)";
+  if (how == "Z") {
+    if (!f.roles.has("depth")) return;
+    f.roles.found.erase("position");
+    note << "Z and the camera (input.positions=Z; P's float32 step " << step << " m, a pixel "
+         << pixel << " m at a scene radius, Z's step "
+         << effects::float32_step(2.0 * job.scene.scene_radius) << " m)";
+    f.positions = note.str();
+    return;
+  }
+  if (!(step > pixel)) return;
+  f.refit_radius = refit_radius(step, pixel);
+  f.refit_position = *f.roles.get("position");
+  f.refit_depth.reset();
+  if (const io::RoleBinding* d = f.roles.get("depth")) f.refit_depth = *d;
+  f.roles.found.erase("position");
+  f.roles.found["depth"] = io::RoleBinding{"depth", {{effects::kRefitChannel}}, "P refitted"};
+  const int side = 2 * f.refit_radius + 1;
+  note << "P refitted into a planar depth over " << side << "x" << side
+       << " pixels, with the camera (input.positions=" << how << "; P's float32 step " << step
+       << " m, a pixel " << pixel << " m at a scene radius)";
   f.positions = note.str();
+}
+
+// P's refitted planar depth (choose_positions) into effects::kRefitChannel: P's foreground as the input's
+// own roles give it; the input's depth, else a background depth, elsewhere.
+void refit_positions(LoadedFrame& f) {
+  if (f.refit_radius == 0) return;
+  const auto t = Clock::now();
+  io::Roles given = f.roles;
+  given.found["position"] = *f.refit_position;
+  given.found.erase("depth");
+  if (f.refit_depth) given.found["depth"] = *f.refit_depth;
+  const std::vector<float> fg = effects::foreground_of(f.img, given);
+  const std::vector<float> P = io::gather_role(f.img, *f.refit_position, 3);
+  std::vector<float> z;
+  if (f.refit_depth) z = io::gather_role(f.img, *f.refit_depth, 1);
+  const auto view = effects::PinholeView::of(*f.camera, std::max(f.img.height, 1));
+  f.img.set(effects::kRefitChannel, refit_depth(P.data(), fg.data(), f.img.width, f.img.height, f.refit_radius,
+                                       view, z.empty() ? nullptr : z.data()));
+  f.refit_ms = std::chrono::duration<double, std::milli>(Clock::now() - t).count();
 }
 
 // Roles, camera and plan of f.img (its header at least), whose file or name is f.input.
@@ -94,6 +132,7 @@ void choose_from_pixels(const JobConfig& job, LoadedFrame& f) {
 // Pixels as the passes take them: NaN/Inf to 0, the beauty scene-linear.
 void prepare_pixels(const JobConfig& job, LoadedFrame& f) {
   f.nonfinite = io::sanitize(f.img);
+  refit_positions(f);
   choose_from_pixels(job, f);
   if (!f.positions.empty()) f.img.attributes.attribute("isg:positions", f.positions);
   load_effects(f);
@@ -264,6 +303,8 @@ Stats process_frame(Runner& runner, const JobConfig& job, LoadedFrame& f) {
   load_effects(f);  // a frame from plan_frame: nothing loaded yet (a no-op after load_frame)
   const int edge = tile_edge(ctx, job, f);
   Stats st = edge > 0 ? execute_tiled(runner, job, f, edge) : runner.execute(f.plan, f.roles, f.img);
+  // P's refitted depth was the effects' (choose_positions), not an output.
+  std::erase_if(f.img.channels, [](const io::Channel& c) { return c.name == effects::kRefitChannel; });
   st.warnings.insert(f.warnings.begin(), f.warnings.end());
   // Provenance: tool version, device, preset, every parameter.
   auto& a = f.img.attributes;

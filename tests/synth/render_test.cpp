@@ -387,7 +387,7 @@ TEST(Options, RejectedWithTheOptionNamed) {
   o.fstop = -1;
   EXPECT_NE(message(o).find("--fstop"), std::string::npos);
   EXPECT_EQ(message(Options{}), "");
-  EXPECT_EQ(scene_names().size(), 8u);
+  EXPECT_EQ(scene_names().size(), 9u);
 }
 
 }  // namespace

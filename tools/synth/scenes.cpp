@@ -160,6 +160,14 @@ Scene far_world(int frame) {
   return s;
 }
 
+// contact 1e6 from the origin, where P's float32 step (62.5 mm) spans pixels (issue 19).
+Scene far_world_1e6(int frame) {
+  Scene s = contact(frame);
+  s.name = "far-world-1e6";
+  translate(s, {1e6, 1e6, 1e6});
+  return s;
+}
+
 // contact seen from just above the floor: the camera 0.55 m high and 9.8 m back, so the floor
 // meets the view at 75° to 89° from its normal and penumbrae are squeezed on screen.
 Scene grazing(int frame) {
@@ -201,6 +209,7 @@ const std::map<std::string, Entry>& registry() {
        {gloss, "mirror-like floor, roughness 0.1 / 0.35 halves, objects at varied heights"}},
       {"dof", {dof, "foreground, in-focus and background objects, small bright emitters"}},
       {"far-world", {far_world, "contact translated by (1e5, 1e5, 1e5)"}},
+      {"far-world-1e6", {far_world_1e6, "contact translated by (1e6, 1e6, 1e6)"}},
       {"grazing", {grazing, "contact seen from 0.55 m above the floor (75-89 deg to its normal)"}},
       {"depth-range", {depth_range, "contact before a backdrop 1e6 m away (depth 1.5 to 1e6 m)"}},
   };
@@ -226,7 +235,7 @@ std::array<double, 16> look_at(Vec3 pos, Vec3 target) {
 
 std::vector<std::string> scene_names() {
   // Presentation order rather than alphabetical.
-  return {"parallel-planes", "contact", "stack", "gloss", "dof", "far-world", "grazing",
+  return {"parallel-planes", "contact", "stack", "gloss", "dof", "far-world", "far-world-1e6", "grazing",
           "depth-range"};
 }
 

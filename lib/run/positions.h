@@ -1,0 +1,50 @@
+// Positions far from the world origin (issue 19): P stored as float32 steps by 2^-23 of its
+// magnitude (6.25 cm 1e6 m away), several pixels at a scene radius from the camera. Within a
+// surface the true positions are smooth, so the planar depth of each pixel is refitted from P's
+// screen neighbours: a world plane's inverse planar depth is affine in screen coordinates, and a
+// least-squares fit of 1/z over the neighbours on the pixel's surface averages P's rounding
+// away. The result is a depth the effects take positions from with the camera (as from Z), so
+// nothing far from the origin is formed in float.
+#pragma once
+
+#include <array>
+#include <cstddef>
+#include <vector>
+
+#include "effects/view.h"
+
+namespace isg::run {
+
+// The rounding of a float32 position: each component within half its step of the truth, so the
+// planar depth -R_2 . (P - eye) within `bound` of the depth of P as stored.
+struct PlanarDepth {
+  double z = 0;      // planar depth of P as stored
+  double bound = 0;  // 0.5 * sum_k |R_2k| * step(P_k)
+};
+PlanarDepth planar_depth(const effects::PinholeView& view, const std::array<double, 3>& P);
+
+// The refit's window radius (pixels) for P's step and a pixel's size at a scene radius: the
+// window spans at least a step's worth of pixels on either side, 3 to kRefitMaxRadius.
+inline constexpr int kRefitMinRadius = 3;
+inline constexpr int kRefitMaxRadius = 8;
+int refit_radius(double step, double pixel);
+
+// The fit's neighbours (refit_depth): a plane over those within this many bounds of the
+// pixel's stored depth plus kRefitSlope pixel footprints (z / f_px) a pixel of offset, then a
+// quadric over those within kRefitGate bounds of the plane. Measured (tests/unit/
+// test_positions.cpp, 200x120, P's step 1.7 pixels; planar depth RMS error as stored -> refitted):
+// floor 0.0159 -> 0.0085 m, sphere 0.0185 -> 0.0094 (a plane in the second fit: 0.0062 and
+// 0.0216, the sphere worse than P; kRefitSlope 32: 0.0091 and 0.0152). Shadow errors 1e6 m from
+// the origin as docs/benchmark/shadow_cases.md gives them, within 5 % of the origin's either way.
+inline constexpr double kRefitGate = 4.0;
+inline constexpr double kRefitSlope = 8.0;
+
+// Planar depth per pixel of a w x h image from P (three planes of w*h floats), refitted over
+// (2r+1)^2 windows of foreground pixels (fg[i] != 0): where the fits hold (twice as many
+// neighbours as terms, the normal equations well posed), the inverse of the fit at the pixel,
+// clamped to the pixel's bound; else the depth of P as stored. Background pixels take `background`
+// (e.g. the input's Z; a value of ISG_BACKGROUND_DEPTH or more marks them). Threads over rows.
+std::vector<float> refit_depth(const float* P, const float* fg, int w, int h, int r,
+                               const effects::PinholeView& view, const float* background);
+
+}  // namespace isg::run
