@@ -23,8 +23,10 @@ struct Frame {
 
 // Camera 6 m back and 1.5 m up, looking at the sphere's foot; floor z = o, sphere of radius 0.5
 // on it; the world shifted by o on every axis.
-Frame render(double o) {
+Frame render(double o, int w = 200, int h = 120) {
   Frame f;
+  f.w = w;
+  f.h = h;
   const double yfov = 40.0 * 3.14159265358979323846 / 180.0;
   f.view.f_px = 0.5 * f.h / std::tan(0.5 * yfov);
   f.view.eye = {o, o - 6.0, o + 1.5};
@@ -125,6 +127,22 @@ TEST(RefitPositions, HalvesPlanarDepthErrorFarFromTheOrigin) {
   EXPECT_LT(e.fit[2], 0.6 * e.raw[2]);  // the sphere: curved, and cut by the floor at its foot
   EXPECT_LT(e.fit[0], 0.6 * e.raw[0]);
   EXPECT_LE(e.over_bound, 1e-6);  // never further from P than its rounding allows
+}
+
+// Three times the resolution: P's step spans 5.2 pixels at a scene radius, a 13x13 window.
+TEST(RefitPositions, WiderWindowAtHigherResolution) {
+  const Frame f = render(1e6, 600, 360);
+  const int r = isg::run::refit_radius(0.0625, 6.0 / f.view.f_px);
+  EXPECT_EQ(r, 6);
+  const auto z = isg::run::refit_depth(f.P.data(), f.fg.data(), f.w, f.h, r, f.view, f.bg.data());
+  const Errors e = measure(f, z, &f.bg);
+  std::printf(
+      "600x360, %dx%d window: planar depth RMS error as stored %.4f m, refitted %.4f m "
+      "(floor %.4f -> %.4f, sphere %.4f -> %.4f)\n",
+      2 * r + 1, 2 * r + 1, e.raw[0], e.fit[0], e.raw[1], e.fit[1], e.raw[2], e.fit[2]);
+  EXPECT_LT(e.fit[1], 0.6 * e.raw[1]);
+  EXPECT_LT(e.fit[2], 0.6 * e.raw[2]);
+  EXPECT_LE(e.over_bound, 1e-6);
 }
 
 TEST(RefitPositions, BackgroundAndTheOriginAreKept) {
