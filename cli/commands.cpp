@@ -15,6 +15,7 @@
 #include "io/color.h"
 #include "metrics/compare.h"
 #include "plan/plan.h"
+#include "run/job.h"
 
 namespace isg::cli {
 
@@ -25,21 +26,30 @@ using json = nlohmann::json;
 int cmd_info(const Common& c, const std::string& input, bool as_json) {
   auto p = build_params(c, "");
   auto scene = load_scene(c);
-  auto img = isg::io::read_exr_header(input, limits_of(p));
   auto req = role_request(c, p, scene);
-  auto roles = isg::io::resolve_roles(img.channel_names(), req, input);
+  // The file's roles (listed), and those `isg run` takes (input.positions: P refitted far from
+  // the origin, or Z; what can run and what auto picks).
+  isg::run::JobConfig job{scene, c.scene, p};
+  job.request = req;
+  job.limits = limits_of(p);
+  auto f = isg::run::plan_frame(job, input);
+  auto& img = f.img;
+  const std::vector<std::string> channels = img.channel_names();
+  auto roles = isg::io::resolve_roles(channels, req, input);
   check_override_roles(req, roles);
-  std::optional<isg::io::Camera> cam = scene.camera;
-  if (!cam) cam = isg::io::camera_from_header(img);
-  auto caps = isg::plan::capabilities(roles, scene, cam.has_value());
+  const std::optional<isg::io::Camera>& cam = f.camera;
+  auto caps = isg::plan::capabilities(f.roles, scene, cam.has_value());
   // What shadows.method = auto would pick for each light whose soft shadows can run, and why
   // (issue 19): from the pixels, so only then are they read.
   std::map<std::string, isg::effects::ShadowAuto> picks;
   for (const auto& e : caps) {
     if (!e.runs || e.effect.rfind("shadows[", 0) != 0) continue;
-    if (picks.empty()) img = isg::io::read_exr(input, limits_of(p));
+    if (picks.empty()) {
+      img = isg::io::read_exr(input, limits_of(p));
+      isg::run::refit_positions(f);
+    }
     const std::string l = e.effect.substr(8, e.effect.size() - 9);
-    picks[e.effect] = isg::effects::choose_shadow_method(img, roles, scene.light(l), l, cam ? &*cam : nullptr);
+    picks[e.effect] = isg::effects::choose_shadow_method(img, f.roles, scene.light(l), l, cam ? &*cam : nullptr);
   }
 
   std::vector<std::string> all_roles = isg::io::global_roles();
@@ -52,10 +62,11 @@ int cmd_info(const Common& c, const std::string& input, bool as_json) {
     j["width"] = img.width;
     j["height"] = img.height;
     j["parts"] = img.parts;
-    j["channels"] = img.channel_names();
+    j["channels"] = channels;
     j["layer"] = roles.layer;
     j["lights"] = roles.lights;
     j["camera"] = cam ? json(cam->source) : json(nullptr);
+    j["positions"] = f.positions.empty() ? json("P") : json(f.positions);
     for (const auto& r : all_roles) {
       const auto* b = roles.get(r);
       j["roles"][r] = b ? json{{"channels", b->terms}, {"how", b->how}} : json(nullptr);
@@ -66,7 +77,7 @@ int cmd_info(const Common& c, const std::string& input, bool as_json) {
     return 0;
   }
   std::cout << input << ": " << img.width << "x" << img.height << ", " << img.parts << " part"
-            << (img.parts > 1 ? "s" : "") << ", " << img.channels.size() << " channels\n";
+            << (img.parts > 1 ? "s" : "") << ", " << channels.size() << " channels\n";
   if (!roles.layer.empty()) std::cout << "view layer: " << roles.layer << "\n";
   std::cout << "roles:\n";
   for (const auto& r : all_roles) {
@@ -81,6 +92,7 @@ int cmd_info(const Common& c, const std::string& input, bool as_json) {
     std::cout << chans << "  (" << b->how << ")\n";
   }
   std::cout << "camera: " << (cam ? cam->source : std::string("none")) << "\n";
+  if (!f.positions.empty()) std::cout << "positions: " << f.positions << "\n";
   std::cout << "effects:\n";
   for (const auto& e : caps) {
     std::cout << "  " << std::left << std::setw(14) << e.effect

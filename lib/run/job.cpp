@@ -69,25 +69,6 @@ void choose_positions(const JobConfig& job, LoadedFrame& f) {
   f.positions = note.str();
 }
 
-// P's refitted planar depth (choose_positions) into effects::kRefitChannel: P's foreground as the input's
-// own roles give it; the input's depth, else a background depth, elsewhere.
-void refit_positions(LoadedFrame& f) {
-  if (f.refit_radius == 0) return;
-  const auto t = Clock::now();
-  io::Roles given = f.roles;
-  given.found["position"] = *f.refit_position;
-  given.found.erase("depth");
-  if (f.refit_depth) given.found["depth"] = *f.refit_depth;
-  const std::vector<float> fg = effects::foreground_of(f.img, given);
-  const std::vector<float> P = io::gather_role(f.img, *f.refit_position, 3);
-  std::vector<float> z;
-  if (f.refit_depth) z = io::gather_role(f.img, *f.refit_depth, 1);
-  const auto view = effects::PinholeView::of(*f.camera, std::max(f.img.height, 1));
-  f.img.set(effects::kRefitChannel, refit_depth(P.data(), fg.data(), f.img.width, f.img.height, f.refit_radius,
-                                       view, z.empty() ? nullptr : z.data()));
-  f.refit_ms = std::chrono::duration<double, std::milli>(Clock::now() - t).count();
-}
-
 // Roles, camera and plan of f.img (its header at least), whose file or name is f.input.
 void plan_image(const JobConfig& job, LoadedFrame& f) {
   // The scene file's lights, unless the caller named them.
@@ -144,6 +125,25 @@ void prepare_pixels(const JobConfig& job, LoadedFrame& f) {
 }
 
 }  // namespace
+
+// P's refitted planar depth (choose_positions) into effects::kRefitChannel: P's foreground as the input's
+// own roles give it; the input's depth, else a background depth, elsewhere.
+void refit_positions(LoadedFrame& f) {
+  if (f.refit_radius == 0) return;
+  const auto t = Clock::now();
+  io::Roles given = f.roles;
+  given.found["position"] = *f.refit_position;
+  given.found.erase("depth");
+  if (f.refit_depth) given.found["depth"] = *f.refit_depth;
+  const std::vector<float> fg = effects::foreground_of(f.img, given);
+  const std::vector<float> P = io::gather_role(f.img, *f.refit_position, 3);
+  std::vector<float> z;
+  if (f.refit_depth) z = io::gather_role(f.img, *f.refit_depth, 1);
+  const auto view = effects::PinholeView::of(*f.camera, std::max(f.img.height, 1));
+  f.img.set(effects::kRefitChannel, refit_depth(P.data(), fg.data(), f.img.width, f.img.height, f.refit_radius,
+                                       view, z.empty() ? nullptr : z.data()));
+  f.refit_ms = std::chrono::duration<double, std::milli>(Clock::now() - t).count();
+}
 
 LoadedFrame plan_frame(const JobConfig& job, const std::string& input) {
   LoadedFrame f;

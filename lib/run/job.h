@@ -48,6 +48,9 @@ struct LoadedFrame {
   double refit_ms = 0;  // P refitted (refit_radius > 0)
 };
 
+// P's refitted planar depth (LoadedFrame::refit_radius) into the image, once its pixels are read
+// (the load stage does it; `isg info` too): a no-op where P is not refitted.
+void refit_positions(LoadedFrame& f);
 // Header, roles and plan only (for --dry-run and for checks before any pixels are read).
 LoadedFrame plan_frame(const JobConfig& job, const std::string& input);
 // Reads the pixels too, and what the effects read besides (shadow maps): the load stage.

@@ -336,6 +336,40 @@ TEST(CliSynth, CameraFromTheSynthHeaderMatchesItsSceneFile) {
   }
 }
 
+// 1e6 m from the origin (isg-synth far-world-1e6) P's float32 step is wider than a pixel at a
+// scene radius: `isg info` and `isg run` both take P refitted into a planar depth and say so
+// (info's positions, the output's isg:positions), the refit is not an output, and auto then picks
+// the map's pcss for this overhead light; at the origin, and with input.positions=Z, they do not.
+TEST(CliSynth, FarFromTheOriginPIsRefittedAndSaidSo) {
+  auto dir = isg::test::temp_dir("synth_refit");
+  for (const char* scene : {"contact", "far-world-1e6"}) {
+    std::string cmd = std::string(ISG_SYNTH_BINARY) + " " + scene + " --out " + q(dir / scene) +
+                      " --width 160 --height 90 --no-refs --threads 2 >/dev/null 2>&1";
+    ASSERT_EQ(std::system(cmd.c_str()), 0) << cmd;
+  }
+  for (const char* scene : {"contact", "far-world-1e6"}) {
+    const bool far = std::string(scene) != "contact";
+    const fs::path d = dir / scene;
+    const std::string args = q(d / "aovs.exr") + " --scene " + q(d / "scene.json");
+    auto info = run_isg("info " + args + " --json");
+    ASSERT_EQ(info.code, 0) << info.err;
+    const auto j = nlohmann::json::parse(info.out);
+    const std::string pos = j["positions"];
+    EXPECT_EQ(pos.rfind("P refitted", 0) == 0, far) << pos;
+    EXPECT_EQ(j["effects"]["shadows[key]"]["auto"]["method"], "pcss") << scene;
+    for (const bool z : {false, true}) {
+      const fs::path o = d / (z ? "z.exr" : "p.exr");
+      auto r = run_isg("run " + args + " -o " + q(o) + (z ? " --set input.positions=Z" : ""));
+      ASSERT_EQ(r.code, 0) << r.err;
+      const auto out = isg::io::read_exr(o);
+      const std::string note = out.attributes.get_string("isg:positions");
+      EXPECT_EQ(note.rfind("P refitted", 0) == 0, far && !z) << scene << ": " << note;
+      EXPECT_EQ(note.rfind("Z and the camera", 0) == 0, z) << scene << ": " << note;
+      EXPECT_FALSE(out.find("isg:depth_from_P")) << scene;
+    }
+  }
+}
+
 // Every shipped preset (presets/*.toml, discovered) runs on a small isg-synth case, and what
 // the output says it did (isg:param:* provenance) is what it holds: the channels of each
 // effect that ran, and a composite that differs from the beauty where an effect applies.
