@@ -33,11 +33,15 @@ namespace {
 // 0.58, 0.82 / 0.57 / 0.77, 0.82 / 0.56 / 0.76, 0.79 / 0.72 / 0.69; the contact case translated by
 // 1e6 (its map exact; at the origin 0.35, 0.23, 0.24, 0.27) 0.48 / 0.36 / 0.35, 0.50 / 0.24 / 0.23,
 // 0.44 / 0.25 / 0.24, 0.56 / 0.27 / 0.27; 1e5 m away (step 0.0078 m, P as stored) pcss 0.26
-// against 0.37 from Z. Z (input.positions=Z) is taken as it is. Said in the output's
+// against 0.37 from Z. Z (input.positions=Z, or an input without P) is refitted the same way
+// where the same step is wider than a pixel (below). Said in the output's
 // isg:positions (prepare_pixels: the header read here is replaced by the pixels).
 void choose_positions(const JobConfig& job, LoadedFrame& f) {
   f.refit_radius = 0;
-  if (!f.roles.has("position") || !f.camera) return;
+  f.refit_position.reset();
+  f.refit_depth.reset();
+  const bool has_p = f.roles.has("position"), has_z = f.roles.has("depth");
+  if (!f.camera || (!has_p && !has_z)) return;
   const std::string how = job.params.get(effects::output_keys::positions);
   const auto view = effects::PinholeView::of(*f.camera, std::max(f.img.height, 1));
   const auto& eye = view.eye;
@@ -45,9 +49,10 @@ void choose_positions(const JobConfig& job, LoadedFrame& f) {
                      job.scene.scene_radius;
   const double step = effects::float32_step(m_p);
   const double pixel = job.scene.scene_radius / view.f_px;
+  const bool from_z = has_z && (how == "Z" || !has_p);
   std::ostringstream note;
-  if (how == "Z") {
-    if (!f.roles.has("depth")) return;
+  if (!(step > pixel)) {
+    if (!from_z || !has_p) return;
     f.roles.found.erase("position");
     note << "Z and the camera (input.positions=Z; P's float32 step " << step << " m, a pixel "
          << pixel << " m at a scene radius, Z's step "
@@ -55,17 +60,21 @@ void choose_positions(const JobConfig& job, LoadedFrame& f) {
     f.positions = note.str();
     return;
   }
-  if (!(step > pixel)) return;
+  // Refitted: from Z as well, which a renderer computes from float32 world positions (Cycles
+  // 1e6 m away, isg, pcss, vssm, cssm from Z as stored 0.58, 0.77, 0.76, 0.69 of doing nothing,
+  // refitted 0.56, 0.58, 0.56, 0.72; the translated case's exact Z stays: 0.35, 0.23, 0.24, 0.27).
   f.refit_radius = refit_radius(step, pixel);
-  f.refit_position = *f.roles.get("position");
-  f.refit_depth.reset();
-  if (const io::RoleBinding* d = f.roles.get("depth")) f.refit_depth = *d;
+  if (!from_z) f.refit_position = *f.roles.get("position");
+  if (has_z) f.refit_depth = *f.roles.get("depth");
+  const char* what = from_z ? "Z" : "P";
   f.roles.found.erase("position");
-  f.roles.found["depth"] = io::RoleBinding{"depth", {{effects::kRefitChannel}}, "P refitted"};
+  f.roles.found["depth"] =
+      io::RoleBinding{"depth", {{effects::kRefitChannel}}, std::string(what) + " refitted"};
   const int side = 2 * f.refit_radius + 1;
-  note << "P refitted into a planar depth over " << side << "x" << side
-       << " pixels, with the camera (input.positions=" << how << "; P's float32 step " << step
-       << " m, a pixel " << pixel << " m at a scene radius)";
+  note << what << " refitted into a planar depth over " << side << "x" << side
+       << " pixels, with the camera (input.positions=" << how
+       << "; the float32 step of world positions there " << step << " m, a pixel " << pixel
+       << " m at a scene radius)";
   f.positions = note.str();
 }
 
@@ -132,16 +141,21 @@ void refit_positions(LoadedFrame& f) {
   if (f.refit_radius == 0) return;
   const auto t = Clock::now();
   io::Roles given = f.roles;
-  given.found["position"] = *f.refit_position;
+  if (f.refit_position) given.found["position"] = *f.refit_position;
   given.found.erase("depth");
   if (f.refit_depth) given.found["depth"] = *f.refit_depth;
   const std::vector<float> fg = effects::foreground_of(f.img, given);
-  const std::vector<float> P = io::gather_role(f.img, *f.refit_position, 3);
   std::vector<float> z;
   if (f.refit_depth) z = io::gather_role(f.img, *f.refit_depth, 1);
   const auto view = effects::PinholeView::of(*f.camera, std::max(f.img.height, 1));
-  f.img.set(effects::kRefitChannel, refit_depth(P.data(), fg.data(), f.img.width, f.img.height, f.refit_radius,
-                                       view, z.empty() ? nullptr : z.data()));
+  const float* bg = z.empty() ? nullptr : z.data();
+  const int w = f.img.width, h = f.img.height, r = f.refit_radius;
+  if (f.refit_position) {
+    const std::vector<float> P = io::gather_role(f.img, *f.refit_position, 3);
+    f.img.set(effects::kRefitChannel, refit_depth(P.data(), fg.data(), w, h, r, view, bg));
+  } else {
+    f.img.set(effects::kRefitChannel, refit_depth_z(z.data(), fg.data(), w, h, r, view, bg));
+  }
   f.refit_ms = std::chrono::duration<double, std::milli>(Clock::now() - t).count();
 }
 

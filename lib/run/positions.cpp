@@ -136,19 +136,34 @@ PlanarDepth planar_depth(const effects::PinholeView& view, const std::array<doub
   return d;
 }
 
+PlanarDepth planar_depth_of_z(const effects::PinholeView& view, size_t i, int w, int h, double z) {
+  const auto& r = view.rot;
+  const auto hit = view.world(i, z, w, h);
+  PlanarDepth d;
+  d.z = z;
+  for (int k = 0; k < 3; ++k)
+    d.bound += 0.5 * std::abs(r[size_t(6 + k)]) *
+               (effects::float32_step(hit[size_t(k)]) + effects::float32_step(view.eye[size_t(k)]));
+  return d;
+}
+
 int refit_radius(double step, double pixel) {
   if (!(pixel > 0) || !(step > 0)) return kRefitMaxRadius;
   return int(std::clamp(std::ceil(step / pixel), double(kRefitMinRadius), double(kRefitMaxRadius)));
 }
 
-std::vector<float> refit_depth(const float* P, const float* fg, int w, int h, int r,
-                               const effects::PinholeView& view, const float* background) {
+namespace {
+
+// The refit of the depths as stored (`stored(i)`, a PlanarDepth, on foreground pixels).
+template <class Stored>
+std::vector<float> refit(Stored stored, const float* fg, int w, int h, int r,
+                         const effects::PinholeView& view, const float* background) {
   const size_t n = size_t(w) * size_t(h);
-  // Depth of P as stored, its bound, and 1/z (0: no surface to fit over).
+  // Depth as stored, its bound, and 1/z (0: no surface to fit over).
   std::vector<double> z(n, 0.0), bound(n, 0.0), u(n, 0.0);
   for (size_t i = 0; i < n; ++i) {
     if (fg[i] == 0.0f) continue;
-    const PlanarDepth d = planar_depth(view, {P[i], P[n + i], P[2 * n + i]});
+    const PlanarDepth d = stored(i);
     z[i] = d.z;
     bound[i] = d.bound;
     if (d.z > 0 && std::isfinite(d.z)) u[i] = 1.0 / d.z;
@@ -221,6 +236,24 @@ std::vector<float> refit_depth(const float* P, const float* fg, int w, int h, in
   for (int t = 0; t < threads; ++t) pool.emplace_back(rows, h * t / threads, h * (t + 1) / threads);
   for (auto& t : pool) t.join();
   return out;
+}
+
+}  // namespace
+
+std::vector<float> refit_depth(const float* P, const float* fg, int w, int h, int r,
+                               const effects::PinholeView& view, const float* background) {
+  const size_t n = size_t(w) * size_t(h);
+  return refit(
+      [&](size_t i) {
+        return planar_depth(view, {P[i], P[n + i], P[2 * n + i]});
+      },
+      fg, w, h, r, view, background);
+}
+
+std::vector<float> refit_depth_z(const float* Z, const float* fg, int w, int h, int r,
+                                 const effects::PinholeView& view, const float* background) {
+  return refit([&](size_t i) { return planar_depth_of_z(view, i, w, h, Z[i]); }, fg, w, h, r, view,
+               background);
 }
 
 }  // namespace isg::run

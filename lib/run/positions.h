@@ -22,6 +22,10 @@ struct PlanarDepth {
   double bound = 0;  // 0.5 * sum_k |R_2k| * step(P_k)
 };
 PlanarDepth planar_depth(const effects::PinholeView& view, const std::array<double, 3>& P);
+// The same for Z as stored at pixel i of a w x h image: a renderer computes it from float32 world
+// positions, the hit's and the eye's, each within half its step (Cycles 1e6 m from the origin:
+// its Z as coarse as its P), so the bound is 0.5 * sum_k |R_2k| * (step(hit_k) + step(eye_k)).
+PlanarDepth planar_depth_of_z(const effects::PinholeView& view, size_t i, int w, int h, double z);
 
 // The refit's window radius (pixels) for P's step and a pixel's size at a scene radius: a step's
 // worth of pixels on either side, kRefitMinRadius to kRefitMaxRadius. Every pixel of the window
@@ -42,13 +46,16 @@ int refit_radius(double step, double pixel);
 inline constexpr double kRefitGate = 4.0;
 inline constexpr double kRefitSlope = 8.0;
 
-// Planar depth per pixel of a w x h image from P (three planes of w*h floats), refitted over
+// Planar depth per pixel of a w x h image from P (three planes of w*h floats), or from Z
+// (refit_depth_z: one plane), refitted over
 // (2r+1)^2 windows of foreground pixels (fg[i] != 0): where the fits hold (twice
 // as many neighbours as terms, the normal equations well posed), the inverse of the fit at the
-// pixel, clamped to the pixel's bound; else the depth of P as stored. Background pixels take
+// pixel, clamped to the pixel's bound; else the depth as stored. Background pixels take
 // `background` (e.g. the input's Z; a value of ISG_BACKGROUND_DEPTH or more marks them). Threads
 // over rows.
 std::vector<float> refit_depth(const float* P, const float* fg, int w, int h, int r,
                                const effects::PinholeView& view, const float* background);
+std::vector<float> refit_depth_z(const float* Z, const float* fg, int w, int h, int r,
+                                 const effects::PinholeView& view, const float* background);
 
 }  // namespace isg::run

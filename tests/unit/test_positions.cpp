@@ -145,6 +145,37 @@ TEST(RefitPositions, WiderWindowAtHigherResolution) {
   EXPECT_LE(e.over_bound, 1e-6);
 }
 
+// Z as a renderer computes it far from the origin: from the float32 hit and eye, in float
+// (Cycles 1e6 m away writes Z as coarse as P). Refitted from Z with the hit's and the eye's
+// steps as its bound.
+TEST(RefitPositions, ZFromAFloat32WorldToo) {
+  const Frame f = render(1e6);
+  const size_t n = f.exact.size();
+  const auto& R = f.view.rot;
+  const float eye[3] = {float(f.view.eye[0]), float(f.view.eye[1]), float(f.view.eye[2])};
+  std::vector<float> Z(n, 1e10f);
+  double raw = 0, cnt = 0;
+  for (size_t i = 0; i < n; ++i) {
+    if (f.fg[i] == 0.0f) continue;
+    float zf = 0.0f;
+    for (int k = 0; k < 3; ++k) zf -= float(R[size_t(6 + k)]) * (f.P[size_t(k) * n + i] - eye[k]);
+    Z[i] = zf;
+    const auto d = isg::run::planar_depth_of_z(f.view, i, f.w, f.h, zf);
+    EXPECT_LE(std::abs(zf - f.exact[i]), d.bound + 1e-6) << i;  // the bound holds
+    raw += (zf - f.exact[i]) * (zf - f.exact[i]), cnt += 1;
+  }
+  raw = std::sqrt(raw / cnt);
+  const auto z = isg::run::refit_depth_z(Z.data(), f.fg.data(), f.w, f.h, 3, f.view, Z.data());
+  double fit = 0;
+  for (size_t i = 0; i < n; ++i)
+    if (f.fg[i] != 0.0f) fit += (z[i] - f.exact[i]) * (z[i] - f.exact[i]);
+  fit = std::sqrt(fit / cnt);
+  std::printf("Z from a float32 world 1e6 away: RMS error as stored %.4f m, refitted %.4f m\n", raw,
+              fit);
+  EXPECT_GT(raw, 0.01);
+  EXPECT_LT(fit, 0.6 * raw);
+}
+
 TEST(RefitPositions, BackgroundAndTheOriginAreKept) {
   // At the origin P's steps are under a micrometre: the refit stays within them.
   const Frame f = render(0.0);
