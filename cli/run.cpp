@@ -57,7 +57,7 @@ void print_timings(isg::gpu::Context& ctx, const isg::run::LoadedFrame& f,
     std::cout << "  " << std::left << std::setw(std::max(28, int(t.name.size()) + 1)) << t.name << t.ms << " ms\n";
   std::cout << "  " << std::setw(28) << "total" << st.gpu_ms() << " ms\n";
   std::cout << "wall: read " << f.read_ms << " ms, ";
-  if (f.refit_radius > 0) std::cout << "P refitted " << f.refit_ms << " ms, ";
+  if (f.refit_radius > 0) std::cout << "positions refitted " << f.refit_ms << " ms, ";
   std::cout << "device init (during the read) " << init_ms << " ms, upload "
             << st.upload_ms << " ms, record " << st.record_ms << " ms, submit+wait "
             << st.gpu_wall_ms << " ms, download " << st.download_ms << " ms, write " << write_ms

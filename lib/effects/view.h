@@ -18,8 +18,8 @@ inline double float32_step(double m) {
   return std::isnormal(m) && std::ilogb(m) > -127 + 23 ? std::ldexp(1.0, std::ilogb(m) - 23) : 0.0;
 }
 
-// The channel that holds P's refitted planar depth (lib/run/positions.h) while a frame is
-// processed, bound to the depth role in P's place; never written.
+// The channel that holds the refitted planar depth (of P or Z far from the world origin,
+// lib/run/positions.h) while a frame is processed, bound to the depth role; never written.
 inline constexpr const char* kRefitChannel = "isg:depth_from_P";
 
 // Where the processed image lies in the camera's frame: the whole frame, or a tile of a large

@@ -135,8 +135,8 @@ void prepare_pixels(const JobConfig& job, LoadedFrame& f) {
 
 }  // namespace
 
-// P's refitted planar depth (choose_positions) into effects::kRefitChannel: P's foreground as the input's
-// own roles give it; the input's depth, else a background depth, elsewhere.
+// The refitted planar depth (choose_positions) into effects::kRefitChannel: on the foreground as
+// the input's own roles give it; the input's depth, else a background depth, elsewhere.
 void refit_positions(LoadedFrame& f) {
   if (f.refit_radius == 0) return;
   const auto t = Clock::now();
@@ -317,7 +317,7 @@ Stats process_frame(Runner& runner, const JobConfig& job, LoadedFrame& f) {
   load_effects(f);  // a frame from plan_frame: nothing loaded yet (a no-op after load_frame)
   const int edge = tile_edge(ctx, job, f);
   Stats st = edge > 0 ? execute_tiled(runner, job, f, edge) : runner.execute(f.plan, f.roles, f.img);
-  // P's refitted depth was the effects' (choose_positions), not an output.
+  // The refitted depth was the effects' (choose_positions), not an output.
   std::erase_if(f.img.channels, [](const io::Channel& c) { return c.name == effects::kRefitChannel; });
   st.warnings.insert(f.warnings.begin(), f.warnings.end());
   // Provenance: tool version, device, preset, every parameter.

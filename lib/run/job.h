@@ -38,18 +38,19 @@ struct LoadedFrame {
   std::vector<io::NonFinite> nonfinite;
   std::set<std::string> warnings;  // from the load stage (e.g. NaN depths in a shadow map)
   std::string positions;  // where input.positions took positions from other than P (isg:positions)
-  // P refitted into a planar depth (run/positions.h; 0: not): the window's radius, and the
-  // bindings of P and of the input's depth (if any) the refit reads; the depth role is then
-  // effects::kRefitChannel, added to img by the load stage and taken out again after processing.
+  // Positions refitted into a planar depth (run/positions.h; 0: not): the window's radius, and
+  // the bindings the refit reads, P's (unset: from Z) and the input's depth (if any); the depth
+  // role is then effects::kRefitChannel, added to img by the load stage and taken out again
+  // after processing.
   int refit_radius = 0;
   std::optional<io::RoleBinding> refit_position, refit_depth;
   effects::Choices choices;  // the effects' choices from the pixels (shadows.method = auto)
   double read_ms = 0;
-  double refit_ms = 0;  // P refitted (refit_radius > 0)
+  double refit_ms = 0;  // the refit's wall time (refit_radius > 0)
 };
 
-// P's refitted planar depth (LoadedFrame::refit_radius) into the image, once its pixels are read
-// (the load stage does it; `isg info` too): a no-op where P is not refitted.
+// The refitted planar depth (LoadedFrame::refit_radius) into the image, once its pixels are
+// read (the load stage does it; `isg info` too): a no-op where nothing is refitted.
 void refit_positions(LoadedFrame& f);
 // Header, roles and plan only (for --dry-run and for checks before any pixels are read).
 LoadedFrame plan_frame(const JobConfig& job, const std::string& input);

@@ -149,7 +149,8 @@ PlanarDepth planar_depth_of_z(const effects::PinholeView& view, size_t i, int w,
 
 int refit_radius(double step, double pixel) {
   if (!(pixel > 0) || !(step > 0)) return kRefitMaxRadius;
-  return int(std::clamp(std::ceil(step / pixel), double(kRefitMinRadius), double(kRefitMaxRadius)));
+  return int(
+      std::clamp(std::ceil(2.0 * step / pixel), double(kRefitMinRadius), double(kRefitMaxRadius)));
 }
 
 namespace {

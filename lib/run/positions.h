@@ -27,11 +27,12 @@ PlanarDepth planar_depth(const effects::PinholeView& view, const std::array<doub
 // its Z as coarse as its P), so the bound is 0.5 * sum_k |R_2k| * (step(hit_k) + step(eye_k)).
 PlanarDepth planar_depth_of_z(const effects::PinholeView& view, size_t i, int w, int h, double z);
 
-// The refit's window radius (pixels) for P's step and a pixel's size at a scene radius: a step's
-// worth of pixels on either side, kRefitMinRadius to kRefitMaxRadius. Every pixel of the window
-// is a sample: P's rounding is a staircase whose treads alias with a sparser lattice (the
-// contact case 1e6 m away at 480x270, samples 2 pixels apart over 13x13: pcss 0.67 of doing
-// nothing against 0.24 with the 9x9 window).
+// The refit's window radius (pixels) for P's step and a pixel's size at a scene radius: two
+// steps' worth of pixels on either side, kRefitMinRadius to kRefitMaxRadius (the contact case
+// 1e6 m away at 480x270, a step 3.3 pixels: pcss 0.237 of doing nothing with one step's worth,
+// 9x9, and 0.229 with two, 15x15; 0.225 at the origin). Every pixel of the window is a sample:
+// P's rounding is a staircase whose treads alias with a sparser lattice (samples 2 pixels apart
+// over 13x13: pcss 0.67).
 inline constexpr int kRefitMinRadius = 3;
 inline constexpr int kRefitMaxRadius = 8;
 int refit_radius(double step, double pixel);
@@ -39,10 +40,9 @@ int refit_radius(double step, double pixel);
 // The fit's neighbours (refit_depth): a plane over those within this many bounds of the
 // pixel's stored depth plus kRefitSlope pixel footprints (z / f_px) a pixel of offset, then a
 // quadric over those within kRefitGate bounds of the plane. Measured (tests/unit/
-// test_positions.cpp, 200x120, P's step 1.7 pixels; planar depth RMS error as stored -> refitted):
-// floor 0.0159 -> 0.0085 m, sphere 0.0185 -> 0.0094 (a plane in the second fit: 0.0062 and
-// 0.0216, the sphere worse than P; kRefitSlope 32: 0.0091 and 0.0152). Shadow errors 1e6 m from
-// the origin as docs/benchmark/shadow_cases.md gives them, within 5 % of the origin's either way.
+// test_positions.cpp, 200x120, P's step 1.7 pixels, 7x7 window; planar depth RMS error as stored
+// -> refitted): floor 0.0159 -> 0.0085 m, sphere 0.0185 -> 0.0094 (a plane in the second fit:
+// 0.0062 and 0.0216, the sphere worse than P; kRefitSlope 32: 0.0091 and 0.0152).
 inline constexpr double kRefitGate = 4.0;
 inline constexpr double kRefitSlope = 8.0;
 

@@ -109,10 +109,10 @@ Errors measure(const Frame& f, const std::vector<float>& z, const std::vector<fl
 
 TEST(RefitPositions, HalvesPlanarDepthErrorFarFromTheOrigin) {
   const Frame f = render(1e6);
-  // A pixel at a scene radius (6 m, 0.036 m) against P's step there (0.0625 m): 1.7 pixels, the
-  // smallest window.
+  // A pixel at a scene radius (6 m, 0.036 m) against P's step there (0.0625 m): 1.7 pixels, a
+  // window of two steps' worth on either side.
   const int r = isg::run::refit_radius(0.0625, 6.0 / f.view.f_px);
-  EXPECT_EQ(r, isg::run::kRefitMinRadius);
+  EXPECT_EQ(r, 4);
   const auto z = isg::run::refit_depth(f.P.data(), f.fg.data(), f.w, f.h, r, f.view, f.bg.data());
   const Errors e = measure(f, z, &f.bg);
   std::printf(
@@ -120,8 +120,8 @@ TEST(RefitPositions, HalvesPlanarDepthErrorFarFromTheOrigin) {
       "%.4f m (floor %.4f -> %.4f, sphere %.4f -> %.4f); furthest beyond the bound %.2g m\n",
       2 * r + 1, 2 * r + 1, e.raw[0], e.fit[0], e.raw[1], e.fit[1], e.raw[2], e.fit[2],
       e.over_bound);
-  // Measured: 0.0160 -> 0.0086 (floor 0.0159 -> 0.0085, sphere 0.0185 -> 0.0094). P's rounding
-  // is a staircase, correlated over the pixels of a step, which a 7x7 window only halves.
+  // Measured: 0.0160 -> 0.0078 (floor 0.0159 -> 0.0077, sphere 0.0185 -> 0.0105). P's rounding
+  // is a staircase, correlated over the pixels of a step, which a 9x9 window only halves.
   EXPECT_GT(e.raw[0], 0.01);            // P's rounding: about a quarter of its step
   EXPECT_LT(e.fit[1], 0.6 * e.raw[1]);  // the floor, seen from 1.5 m above it
   EXPECT_LT(e.fit[2], 0.6 * e.raw[2]);  // the sphere: curved, and cut by the floor at its foot
@@ -129,11 +129,11 @@ TEST(RefitPositions, HalvesPlanarDepthErrorFarFromTheOrigin) {
   EXPECT_LE(e.over_bound, 1e-6);  // never further from P than its rounding allows
 }
 
-// Three times the resolution: P's step spans 5.2 pixels at a scene radius, a 13x13 window.
+// Three times the resolution: P's step spans 5.2 pixels at a scene radius, the widest window.
 TEST(RefitPositions, WiderWindowAtHigherResolution) {
   const Frame f = render(1e6, 600, 360);
   const int r = isg::run::refit_radius(0.0625, 6.0 / f.view.f_px);
-  EXPECT_EQ(r, 6);
+  EXPECT_EQ(r, isg::run::kRefitMaxRadius);
   const auto z = isg::run::refit_depth(f.P.data(), f.fg.data(), f.w, f.h, r, f.view, f.bg.data());
   const Errors e = measure(f, z, &f.bg);
   std::printf(
@@ -186,5 +186,6 @@ TEST(RefitPositions, BackgroundAndTheOriginAreKept) {
   EXPECT_LT(e.fit[0], 1e-5);
   EXPECT_LE(e.over_bound, 1e-6);
   EXPECT_EQ(isg::run::refit_radius(0.0625, 0.1), isg::run::kRefitMinRadius);
+  EXPECT_EQ(isg::run::refit_radius(0.0625, 0.025), 5);
   EXPECT_EQ(isg::run::refit_radius(1.0, 0.01), isg::run::kRefitMaxRadius);
 }

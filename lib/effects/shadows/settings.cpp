@@ -242,8 +242,9 @@ ShadowAuto choose_shadow_method(const io::Image& img, const io::Roles& roles, co
   const double dist = std::hypot(L[0] - view.eye[0], L[1] - view.eye[1], L[2] - view.eye[2]);
   const double texel = std::max(dist, 1e-6) * 2.0 * std::tan(sm.yfov_deg * kPi / 360.0) / double(std::max(sm.height, 1));
   const double step = float32_step(mag);
-  // P refitted (input.positions, lib/run/positions.h) places receivers within a fraction of its
-  // step: the contact case 1e6 m away, pcss 0.24 against isg 0.36 (0.23 and 0.35 at the origin).
+  // Positions refitted (input.positions, lib/run/positions.h) place receivers within a fraction
+  // of the step: the contact case 1e6 m away, pcss 0.24 against isg 0.36 from P (0.23 and 0.35 at
+  // the origin).
   const io::RoleBinding* depth = roles.get("depth");
   const bool refitted = !roles.has("position") && depth && depth->terms.size() == 1 &&
                         depth->terms[0].size() == 1 && depth->terms[0][0] == kRefitChannel;
