@@ -141,9 +141,9 @@ PlanarDepth planar_depth_of_z(const effects::PinholeView& view, size_t i, int w,
   const auto hit = view.world(i, z, w, h);
   PlanarDepth d;
   d.z = z;
-  for (int k = 0; k < 3; ++k)
-    d.bound += 0.5 * std::abs(r[size_t(6 + k)]) *
-               (effects::float32_step(hit[size_t(k)]) + effects::float32_step(view.eye[size_t(k)]));
+  for (size_t k = 0; k < 3; ++k)
+    d.bound += 0.5 * std::abs(r[6 + k]) *
+               (effects::float32_step(hit[k]) + effects::float32_step(view.eye[k]));
   return d;
 }
 
