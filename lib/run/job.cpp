@@ -29,10 +29,10 @@ namespace {
 // planar depth that every effect then takes, with the camera, for its positions, depth and
 // foreground. Under a pixel P stays as it is, consistent with a shadow map the renderer computed
 // in the same float32 world. Own Cycles renders of contact at 480x270, ratio to doing nothing
-// from P as stored / P refitted / Z (isg, pcss, vssm, cssm): 1e6 m from the origin 0.62 / 0.56 /
+// from P as stored / P refitted / Z as stored (isg, pcss, vssm, cssm): 1e6 m from the origin 0.62 / 0.56 /
 // 0.58, 0.82 / 0.57 / 0.77, 0.82 / 0.56 / 0.76, 0.79 / 0.72 / 0.69; the contact case translated by
-// 1e6 (its map exact; at the origin 0.35, 0.23, 0.24, 0.27) 0.48 / 0.36 / 0.35, 0.50 / 0.24 / 0.23,
-// 0.44 / 0.25 / 0.24, 0.56 / 0.27 / 0.27; 1e5 m away (step 0.0078 m, P as stored) pcss 0.26
+// 1e6 (its map exact; at the origin 0.35, 0.23, 0.24, 0.27) 0.48 / 0.35 / 0.35, 0.50 / 0.23 / 0.23,
+// 0.44 / 0.24 / 0.24, 0.56 / 0.27 / 0.27; 1e5 m away (step 0.0078 m, P as stored) pcss 0.26
 // against 0.37 from Z. Z (input.positions=Z, or an input without P) is refitted the same way
 // where the same step is wider than a pixel (below). Said in the output's
 // isg:positions (prepare_pixels: the header read here is replaced by the pixels).
@@ -62,7 +62,7 @@ void choose_positions(const JobConfig& job, LoadedFrame& f) {
   }
   // Refitted: from Z as well, which a renderer computes from float32 world positions (Cycles
   // 1e6 m away, isg, pcss, vssm, cssm from Z as stored 0.58, 0.77, 0.76, 0.69 of doing nothing,
-  // refitted 0.56, 0.58, 0.56, 0.72; the translated case's exact Z stays: 0.35, 0.23, 0.24, 0.27).
+  // refitted 0.56, 0.57, 0.56, 0.73; the translated case's exact Z stays: 0.35, 0.23, 0.24, 0.27).
   f.refit_radius = refit_radius(step, pixel);
   if (!from_z) f.refit_position = *f.roles.get("position");
   if (has_z) f.refit_depth = *f.roles.get("depth");

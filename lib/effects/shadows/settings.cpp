@@ -243,7 +243,7 @@ ShadowAuto choose_shadow_method(const io::Image& img, const io::Roles& roles, co
   const double texel = std::max(dist, 1e-6) * 2.0 * std::tan(sm.yfov_deg * kPi / 360.0) / double(std::max(sm.height, 1));
   const double step = float32_step(mag);
   // Positions refitted (input.positions, lib/run/positions.h) place receivers within a fraction
-  // of the step: the contact case 1e6 m away, pcss 0.24 against isg 0.36 from P (0.23 and 0.35 at
+  // of the step: the contact case 1e6 m away, pcss 0.23 against isg 0.35 from P (the same at
   // the origin).
   const io::RoleBinding* depth = roles.get("depth");
   const bool refitted = !roles.has("position") && depth && depth->terms.size() == 1 &&
