@@ -66,7 +66,10 @@ int cmd_info(const Common& c, const std::string& input, bool as_json) {
     j["layer"] = roles.layer;
     j["lights"] = roles.lights;
     j["camera"] = cam ? json(cam->source) : json(nullptr);
-    j["positions"] = f.positions.empty() ? json("P") : json(f.positions);
+    j["positions"] = !f.positions.empty()         ? f.positions
+                     : f.roles.has("position")    ? std::string("P")
+                     : f.roles.has("depth") && cam ? std::string("Z and the camera")
+                                                   : std::string("none");
     for (const auto& r : all_roles) {
       const auto* b = roles.get(r);
       j["roles"][r] = b ? json{{"channels", b->terms}, {"how", b->how}} : json(nullptr);

@@ -357,6 +357,9 @@ TEST(CliSynth, FarFromTheOriginPIsRefittedAndSaidSo) {
     const auto j = nlohmann::json::parse(info.out);
     const std::string pos = j["positions"];
     EXPECT_EQ(pos.rfind("P refitted", 0) == 0, far) << pos;
+    if (!far) {
+      EXPECT_EQ(pos, "P");
+    }
     EXPECT_EQ(j["effects"]["shadows[key]"]["auto"]["method"], "pcss") << scene;
     for (const bool z : {false, true}) {
       const fs::path o = d / (z ? "z.exr" : "p.exr");
