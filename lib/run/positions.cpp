@@ -56,51 +56,48 @@ struct Fit {
   }
 };
 
-// The window of radius r: its offsets, and for each kind of fit the filter W[kind][term] that the
-// fit is where every sample is taken (inside a surface): the fit to each unit sample.
+// The window of radius r and its fit, a plane (m = 3) or a quadric (m = 6): the offsets, and the
+// filter W[term] that the fit is where every sample is taken (inside a surface), the fit to each
+// unit sample.
 struct Window {
-  int r = 0, n = 0;
+  int r = 0, n = 0, m = 3;
   std::vector<int> dx, dy;
-  std::vector<double> W[2][6];
+  std::vector<double> W[6];
 
-  explicit Window(int radius) : r(radius) {
+  Window(int radius, bool curved) : r(radius), m(curved ? 6 : 3) {
     dx.reserve(size_t(2 * r + 1) * size_t(2 * r + 1));
     dy.reserve(dx.capacity());
     for (int y = -r; y <= r; ++y)
       for (int x = -r; x <= r; ++x) dx.push_back(x), dy.push_back(y);
     n = int(dx.size());
-    for (int c = 0; c < 2; ++c) {
-      const int m = c ? 6 : 3;
-      double full[6][7] = {};
-      for (int s = 0; s < n; ++s) {
-        double f[6];
-        monomials(dx[size_t(s)], dy[size_t(s)], f);
-        for (int p = 0; p < m; ++p)
-          for (int q = 0; q < m; ++q) full[p][q] += f[p] * f[q];
+    double full[6][7] = {};
+    for (int s = 0; s < n; ++s) {
+      double f[6];
+      monomials(dx[size_t(s)], dy[size_t(s)], f);
+      for (int p = 0; p < m; ++p)
+        for (int q = 0; q < m; ++q) full[p][q] += f[p] * f[q];
+    }
+    for (int p = 0; p < m; ++p) W[p].assign(size_t(n), 0.0);
+    for (int s = 0; s < n; ++s) {
+      double A[6][7], f[6], k[6] = {};
+      monomials(dx[size_t(s)], dy[size_t(s)], f);
+      for (int p = 0; p < m; ++p) {
+        for (int q = 0; q < m; ++q) A[p][q] = full[p][q];
+        A[p][m] = f[p];
       }
-      for (int p = 0; p < m; ++p) W[c][p].assign(size_t(n), 0.0);
-      for (int s = 0; s < n; ++s) {
-        double A[6][7], f[6], k[6] = {};
-        monomials(dx[size_t(s)], dy[size_t(s)], f);
-        for (int p = 0; p < m; ++p) {
-          for (int q = 0; q < m; ++q) A[p][q] = full[p][q];
-          A[p][m] = f[p];
-        }
-        solve(A, m, k);
-        for (int p = 0; p < m; ++p) W[c][p][size_t(s)] = k[p];
-      }
+      solve(A, m, k);
+      for (int p = 0; p < m; ++p) W[p][size_t(s)] = k[p];
     }
   }
 
   // The fit of v over the samples `taken` (count of them); with every sample taken, only its
   // first `needed` terms (the rest stay 0).
-  Fit fit(bool curved, const double* v, const bool* taken, int count, int needed = 6) const {
+  Fit fit(const double* v, const bool* taken, int count, int needed = 6) const {
     Fit F;
-    const int m = curved ? 6 : 3;
     F.terms = m;
     if (count == n) {
       for (int p = 0; p < std::min(m, needed); ++p) {
-        const double* w = W[curved][p].data();
+        const double* w = W[p].data();
         for (int s = 0; s < n; ++s) F.k[p] += w[s] * v[s];
       }
       F.ok = true;
@@ -172,7 +169,7 @@ std::vector<float> refit(Stored stored, const float* fg, int w, int h, int r,
   // The plane over the smallest window (it only gates the quadric's samples), the quadric over
   // the whole: 1920x1080 1e6 m away (17x17), 2.4 -> 1.9 s with the quadric's value alone where
   // every sample is taken, -> 1.2 s with the plane's window 7x7.
-  const Window near(std::min(r, kRefitMinRadius)), win(r);
+  const Window near(std::min(r, kRefitMinRadius), false), win(r, true);
   std::vector<float> out(n);
   auto rows = [&](int y0, int y1) {
     std::vector<double> v(size_t(win.n));
@@ -209,7 +206,7 @@ std::vector<float> refit(Stored stored, const float* fg, int w, int h, int r,
           v[size_t(s)] = taken[s] ? u[j] - u[i] : 0.0;
           count += taken[s];
         }
-        const Fit first = near.fit(false, v.data(), taken.get(), count);
+        const Fit first = near.fit(v.data(), taken.get(), count);
         Fit second = first;
         if (first.ok) {
           // Within the gate of the plane, in 1/z: |z_j - 1/up| <= gate as |u_j - up| <=
@@ -222,7 +219,7 @@ std::vector<float> refit(Stored stored, const float* fg, int w, int h, int r,
             v[size_t(s)] = taken[s] ? u[j] - u[i] : 0.0;
             count += taken[s];
           }
-          second = win.fit(true, v.data(), taken.get(), count, 1);  // its value at the pixel
+          second = win.fit(v.data(), taken.get(), count, 1);  // its value at the pixel
           if (!second.ok) second = first;
         }
         double zi = z[i];

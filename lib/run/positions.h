@@ -18,7 +18,7 @@ namespace isg::run {
 // The rounding of a float32 position: each component within half its step of the truth, so the
 // planar depth -R_2 . (P - eye) within `bound` of the depth of P as stored.
 struct PlanarDepth {
-  double z = 0;      // planar depth of P as stored
+  double z = 0;      // planar depth as stored (of P, or Z)
   double bound = 0;  // 0.5 * sum_k |R_2k| * step(P_k)
 };
 PlanarDepth planar_depth(const effects::PinholeView& view, const std::array<double, 3>& P);
