@@ -211,6 +211,23 @@ void main() {
   float num = cssm_filtered(q, g, texel_world, hs, d, true);  // CSM-Z (eq. 5.11)
   float z_avg = clamp(num / (1.0 - s_f), 0.0, d);  // eq. 5.8
   float zb = c.zmin + z_avg * c.zrange;
+  // The search narrowed to the blockers' cone (cssm.cpp), while it shrinks: blockers outside the
+  // light's cone at the mean blocker depth cannot shadow the receiver, but pulled the mean
+  // towards its depth (PCSS's region is as wide as the nearest possible blocker's cone).
+  for (uint pass = 0u; pass < c.narrow; ++pass) {
+    float rn = min(CSSM_NARROW_MARGIN * k * max(1.0 / zb - 1.0 / q.z, 0.0), p.max_radius);
+    float hn = max(0.886226925 * rn, 0.5);
+    if (hn >= hs) break;
+    float sn = cssm_filtered(q, g, texel_world, hn, d, false);
+    if (cssm_suppress(sn) >= 1.0 || 1.0 - sn < 1e-3) {
+      atomicAdd(stats[SHADOWMAP_STAT_SKIPPED], 1u);  // none of them reaches it: fully lit
+      soft[i] = sm_input_edges(1.0, hard[i], 0.0);
+      return;
+    }
+    z_avg = clamp(cssm_filtered(q, g, texel_world, hn, d, true) / (1.0 - sn), 0.0, d);
+    zb = c.zmin + z_avg * c.zrange;
+    hs = hn;
+  }
   // Penumbra width (§5.3.1): rf = k (1/z_avg − 1/d).
   float rf = k * max(1.0 / zb - 1.0 / q.z, 0.0);
   if (rf > p.max_radius) { rf = p.max_radius; atomicAdd(stats[SHADOWMAP_STAT_CLAMPED], 1u); }

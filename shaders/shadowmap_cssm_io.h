@@ -8,6 +8,7 @@ ISG_IO_BEGIN
 #define CSSM_FILTER_MIPMAP 1u  // shadows.cssm_filter = mipmap: 2x2 box pyramids (float)
 #define CSSM_MAX_LAYERS 65     // 4M + 1 for M <= 16 (shadows.cssm_order's range)
 #define CSSM_CHUNKS 8          // the layers are spread over up to 8 buffers (storage range)
+#define CSSM_NARROW_MARGIN 1.7  // a narrowed blocker search's radius over its cone's (cssm.cpp)
 // Convolution soft shadow maps (thesis ch. 5). The basis images are layers of one buffer, in
 // this order, for k = 1..M and c_k = π(2k − 1) (eq. 5.10, Annen07):
 //   [0, M) cos(c_k ζ), [M, 2M) sin(c_k ζ)          CSM (eq. 5.2-5.3)
@@ -27,6 +28,7 @@ struct CssmParams {
   uint chunk_layers, layer_elems;      // layers a buffer, uints a layer
   uint basis_shift;                    // basis texels are 2^basis_shift map texels a side
   uint max_split;                      // shadows.cssm_split: most sub-kernels a side
+  uint narrow;                         // shadows.cssm_narrow: narrowed blocker searches
   uint level_w[CSSM_MAX_LEVELS], level_h[CSSM_MAX_LEVELS];
   uint level_off[CSSM_MAX_LEVELS];  // first element of each mip level within a layer
 };

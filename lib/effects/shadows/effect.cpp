@@ -132,6 +132,11 @@ class Shadows final : public Effect {
        "or sloped receiver): each sub-kernel is tested against the receiver's depth at its "
        "centre, so the receiver does not shadow itself; 1: one receiver depth per pixel, as "
        "the thesis (ch. 5); cost up to split^2 lookups"),
+      params::def(shadow_keys::cssm_narrow, "2", 0, 4,
+       "cssm: passes that search for blockers again over the box of the light's cone at the "
+       "mean blocker depth found so far (x1.7), while it shrinks: blockers outside it cannot "
+       "shadow the receiver, and pulled the mean towards it (PCSS's region is sized for the "
+       "nearest possible blocker); 0: the thesis's single search; each pass costs two lookups"),
       params::def(shadow_keys::cssm_sharpen_a, "30", 0, 1e3,
        "cssm: A of the sharpening exponent p = 1 + A exp(-B (d - z_avg)) (eq. 5.9); 0: none"),
       params::def(shadow_keys::cssm_sharpen_b, "100", 0, 1e6,

@@ -32,6 +32,7 @@ inline constexpr params::Int cssm_order{"shadows.cssm_order"};
 inline constexpr params::Choice cssm_filter{"shadows.cssm_filter"};
 inline constexpr params::Int cssm_max_basis{"shadows.cssm_max_basis"};
 inline constexpr params::Int cssm_split{"shadows.cssm_split"};
+inline constexpr params::Int cssm_narrow{"shadows.cssm_narrow"};
 inline constexpr params::Number cssm_sharpen_a{"shadows.cssm_sharpen_a"};
 inline constexpr params::Number cssm_sharpen_b{"shadows.cssm_sharpen_b"};
 }  // namespace isg::effects::shadow_keys

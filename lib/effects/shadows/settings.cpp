@@ -117,6 +117,7 @@ ShadowmapSettings shadowmap_settings(const io::Light& light, const io::Camera* c
   s.cssm_filter = p.get(shadow_keys::cssm_filter);
   s.cssm_max_basis = int(p.get(shadow_keys::cssm_max_basis));
   s.cssm_split = int(p.get(shadow_keys::cssm_split));
+  s.cssm_narrow = int(p.get(shadow_keys::cssm_narrow));
   s.cssm_a = p.get(shadow_keys::cssm_sharpen_a);
   s.cssm_b = p.get(shadow_keys::cssm_sharpen_b);
   s.has_camera = cam != nullptr;

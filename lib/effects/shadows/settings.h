@@ -92,6 +92,7 @@ struct ShadowmapSettings {
   std::string cssm_filter = "sat";    // shadows.cssm_filter: sat | mipmap (§5.3.1)
   int cssm_max_basis = 1024;          // shadows.cssm_max_basis: basis images' largest side
   int cssm_split = 4;  // shadows.cssm_split: most sub-kernels a side (receiver depth per sub-kernel)
+  int cssm_narrow = 2;  // shadows.cssm_narrow: blocker searches narrowed to the blockers' cone
   double cssm_a = 30.0, cssm_b = 100.0;  // shadows.cssm_sharpen_a/b: eq. 5.9
   // Camera (depth -> position; facing test): focal length in pixels, eye, world-to-camera
   // rotation. Without a camera, P is required and no facing test is made.
