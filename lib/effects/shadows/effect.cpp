@@ -171,8 +171,8 @@ class Shadows final : public Effect {
   // shadows.method = auto: each light's method from the frame's pixels. A shadow-map method
   // named explicitly where auto would take another runs as asked, with a note saying which and
   // why (issue 19): isg (a grazing light, a scene far from the origin), or pcss where vssm or
-  // cssm is named (on every Cycles case where auto takes pcss, pcss had the lowest error of the
-  // map's methods: docs/benchmark/shadow_cases.md).
+  // cssm is named (on the Cycles cases where auto takes pcss, pcss had the lowest error of the
+  // map's methods on all but own `overlap`, where cssm's was lower: docs/benchmark/shadow_cases.md).
   void choose(const PlanContext& c, const io::Image& img, Choices& out) const override {
     const std::string m = c.p.get(shadow_keys::method);
     const bool map_method = m == "pcss" || m == "vssm" || m == "cssm";
@@ -185,7 +185,7 @@ class Shadows final : public Effect {
         else if (a.method == "pcss" && m != "pcss")
           out["shadows[" + l + "]/note"] =
               "shadows.method=auto would take pcss here: " + a.why +
-              " (the lowest error of the map's methods on every Cycles case where auto takes it)";
+              " (the lowest error of the map's methods on most Cycles cases where auto takes it)";
         continue;
       }
       out["shadows[" + l + "]"] = a.method;
