@@ -215,8 +215,7 @@ void main() {
   // light's cone at the mean blocker depth cannot shadow the receiver, but pulled the mean
   // towards its depth (PCSS's region is as wide as the nearest possible blocker's cone).
   for (uint pass = 0u; pass < c.narrow; ++pass) {
-    float rn = min(CSSM_NARROW_MARGIN * k * max(1.0 / zb - 1.0 / q.z, 0.0), p.max_radius);
-    float hn = max(0.886226925 * rn, 0.5);
+    float hn = sm_cone_box(k, zb, q.z, CSSM_NARROW_MARGIN);
     if (hn >= hs) break;
     float sn = cssm_filtered(q, g, texel_world, hn, d, false);
     if (cssm_suppress(sn) >= 1.0 || 1.0 - sn < 1e-3) {

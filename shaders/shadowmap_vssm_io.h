@@ -4,6 +4,7 @@
 ISG_IO_BEGIN
 #define VSSM_MAX_LEVELS 16
 #define HSM_LOCAL 16
+#define VSSM_NARROW_MARGIN 1.0  // a narrowed blocker search's box over its cone's (vssm.cpp)
 // VSSM (thesis ch. 7): what the shading pass reads besides ShadowmapParams (std430: scalars
 // and uint arrays only).
 struct VssmParams {
@@ -16,6 +17,7 @@ struct VssmParams {
   float far_z;     // depths clamped to it (the map's farthest surface; background behind it)
   float z0;        // the SAT of (z − z0)²: z0, the map's mean depth
   float off1, scale1, off2, scale2;  // fixed point of the two SATs (sat_io.h)
+  uint narrow;                       // shadows.vssm_narrow: narrowed blocker searches
   uint level_off[VSSM_MAX_LEVELS];   // HSM level k: first texel, width, height
   uint level_w[VSSM_MAX_LEVELS];
   uint level_h[VSSM_MAX_LEVELS];

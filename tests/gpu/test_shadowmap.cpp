@@ -145,6 +145,7 @@ TEST_F(ShadowmapGpu, MapMethodsKeepARampOverAGrazingFloorLit) {
     for (int r = 0; r < 2; ++r) {
       auto s = pl.settings(64, "stratified", method);
       s.reach = r ? 2.0 : 0.0;
+      s.vssm_narrow = 0;  // the reach test alone (the narrowed search: below)
       fx::ShadowmapStats st;
       const auto got = run_gpu(ctx(), in, smap, s, &st);
       const auto want = method == "pcss" ? fx::pcss_reference(in, smap, s, nullptr)
@@ -183,6 +184,24 @@ TEST_F(ShadowmapGpu, MapMethodsKeepARampOverAGrazingFloorLit) {
     // Without the reach test the ramp is dark past the seam's band: the test sees what it guards.
     EXPECT_GE(dark[0], 0.05) << method;
   }
+  // vssm's narrowed search (shadows.vssm_narrow) leaves those floor texels out of the mean
+  // blocker depth, and so keeps the ramp lit without the reach test too.
+  auto s = pl.settings(64, "stratified", "vssm");
+  s.reach = 0.0;
+  ASSERT_GT(s.vssm_narrow, 0);
+  const auto got = run_gpu(ctx(), in, smap, s, nullptr);
+  const auto want = fx::vssm_reference(in, smap, s, nullptr);
+  double md, dark = 0;
+  for (int y = 1; y < h - 1; ++y)
+    for (int x = 1; x < w - 1; ++x) {
+      const size_t i = size_t(y) * w + x;
+      if (std::abs(in.position[i]) >= band) dark = std::max(dark, 1.0 - double(got[i]));
+    }
+  const size_t bad = mismatches(got, want, &md);
+  std::printf("ramp over a grazing floor, vssm narrowed, reach 0: darkest %.3f beyond %.3f of the "
+              "seam; GPU and reference differ at %zu pixels (max %.3f)\n", dark, band, bad, md);
+  EXPECT_LE(dark, 0.02);
+  EXPECT_LE(bad, n / 100);
 }
 
 // shadows.input_edges: a near-point light (penumbra 0.004 texels wide) and a 32² map whose texel is

@@ -144,15 +144,14 @@ TEST(Plan, AutoShadowMethodPicksPcssOrIsgFromThePixels) {
     EXPECT_EQ(st.method, m);
     EXPECT_EQ(st.why.rfind("note: shadows.method=auto would take isg here: the light grazes", 0), 0u) << m;
   }
-  // Overhead: pcss named runs without a note; vssm and cssm named, with one for pcss.
-  EXPECT_EQ(auto_status(overhead, "pcss").why, "");
-  for (const char* m : {"vssm", "cssm"}) {
-    st = auto_status(overhead, m);
-    std::printf("overhead, %s named: %s (%s)\n", m, st.method.c_str(), st.why.c_str());
-    EXPECT_TRUE(st.runs);
-    EXPECT_EQ(st.method, m);
-    EXPECT_EQ(st.why.rfind("note: shadows.method=auto would take pcss here: the light stands", 0), 0u) << m;
-  }
+  // Overhead: pcss and vssm named run without a note (vssm's error is the lower, its cost the
+  // higher); cssm named, with one for pcss.
+  for (const char* m : {"pcss", "vssm"}) EXPECT_EQ(auto_status(overhead, m).why, "") << m;
+  st = auto_status(overhead, "cssm");
+  std::printf("overhead, cssm named: %s (%s)\n", st.method.c_str(), st.why.c_str());
+  EXPECT_TRUE(st.runs);
+  EXPECT_EQ(st.method, "cssm");
+  EXPECT_EQ(st.why.rfind("note: shadows.method=auto would take pcss here: the light stands", 0), 0u);
 
   // Far from the origin: isg once float32 positions step by more than a map texel there, pcss
   // under it.

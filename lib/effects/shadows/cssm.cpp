@@ -368,8 +368,7 @@ std::vector<float> cssm_reference(const ShadowmapInputs& in, const ShadowmapData
     double zb = u.zmin + z_avg * u.zrange;
     // The search narrowed to the blockers' cone (see the top of the file), while it shrinks.
     for (int pass = 0; pass < u.narrow; ++pass) {
-      const double rn = std::min(kNarrowMargin * k * std::max(1.0 / zb - 1.0 / q[2], 0.0), s.max_radius);
-      const double hn = std::max(kBoxOfDisk * rn, kMinHalfWidth);
+      const double hn = Geom::cone_box(k, zb, q[2], kNarrowMargin, s.max_radius);
       if (hn >= hs) break;
       const double sn = visibility(hn);
       if (suppress(u, sn) >= 1.0 || 1.0 - sn < kMinBlockers) {

@@ -167,6 +167,12 @@ struct Geom {
     const double ox = cx - q[0], oy = cy - q[1];
     return ox * ox + oy * oy <= r * r;
   }
+  // The narrowed blocker search's box (shadowmap_common.h's sm_cone_box): the half-width of the
+  // square of the area of the light's cone at map depth z, widened margin times, in
+  // [0.5, max_radius · √π/2].
+  static double cone_box(double k, double z, double qz, double margin, double max_radius) {
+    return std::max(0.886226925452758 * std::min(margin * k * std::max(1.0 / z - 1.0 / qz, 0.0), max_radius), 0.5);
+  }
   // Bounds of threshold() over the box [lo, hi): 1/z is linear in (u, v), so the plane's depth
   // is extreme at the corners; its clamp to q.z ± g[3]·tw·|o| is bounded by the farthest corner.
   std::array<double, 2> threshold_range(const V3& q, const Plane& g, V2 lo, V2 hi, double tw) const {

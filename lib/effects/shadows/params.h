@@ -28,6 +28,7 @@ inline constexpr params::Int vssm_h{"shadows.vssm_h"};
 inline constexpr params::Int vssm_leaf_taps{"shadows.vssm_leaf_taps"};
 inline constexpr params::Number vssm_flat{"shadows.vssm_flat"};
 inline constexpr params::Number vssm_contact{"shadows.vssm_contact"};
+inline constexpr params::Int vssm_narrow{"shadows.vssm_narrow"};
 inline constexpr params::Int cssm_order{"shadows.cssm_order"};
 inline constexpr params::Choice cssm_filter{"shadows.cssm_filter"};
 inline constexpr params::Int cssm_max_basis{"shadows.cssm_max_basis"};

@@ -113,6 +113,7 @@ ShadowmapSettings shadowmap_settings(const io::Light& light, const io::Camera* c
   s.vssm_leaf_taps = int(p.get(shadow_keys::vssm_leaf_taps));
   s.vssm_flat = p.get(shadow_keys::vssm_flat);
   s.vssm_contact = p.get(shadow_keys::vssm_contact);
+  s.vssm_narrow = int(p.get(shadow_keys::vssm_narrow));
   s.cssm_order = int(p.get(shadow_keys::cssm_order));
   s.cssm_filter = p.get(shadow_keys::cssm_filter);
   s.cssm_max_basis = int(p.get(shadow_keys::cssm_max_basis));

@@ -87,6 +87,7 @@ struct ShadowmapSettings {
   int vssm_leaf_taps = 4;   // shadows.vssm_leaf_taps: PCF taps per non-planar leaf (0: lit)
   double vssm_flat = 1e-4;  // shadows.vssm_flat: σ² below it·r is planar (§7.5.5)
   double vssm_contact = 0.01;  // shadows.vssm_contact: d − z_avg below it·r: PCF (§7.5.4)
+  int vssm_narrow = 2;  // shadows.vssm_narrow: blocker searches narrowed to the blockers' cone
   // cssm (thesis ch. 5)
   int cssm_order = 8;                 // shadows.cssm_order: M, Fourier terms (eq. 5.2, 5.10)
   std::string cssm_filter = "sat";    // shadows.cssm_filter: sat | mipmap (§5.3.1)

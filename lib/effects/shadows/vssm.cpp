@@ -1,8 +1,10 @@
 // Variance soft shadow maps (thesis ch. 7): the GPU method (passes shadows.vssm.hsm, the two
-// SATs, shadows.vssm) and its double-precision mirror. The per-pixel algorithm is commented in
-// shaders/shadowmap_vssm.comp; this file follows it line for line.
+// SATs, shadows.vssm) and its double-precision mirror. The per-pixel algorithm, the narrowed
+// blocker search (shadows.vssm_narrow) with it, is commented in shaders/shadowmap_vssm.glsl;
+// this file follows it line for line.
 #include <algorithm>
 #include <cmath>
+#include <stdexcept>
 
 #include "effects/shadows/method.h"
 #include "effects/shadows/sat.h"
@@ -200,26 +202,10 @@ struct VssmRef {
     return zr[0] >= tr[1] ? 1 : (zr[1] < tr[0] ? -1 : 0);
   }
 
-  // One pixel inside the map, not back-facing.
-  Shaded shade(int px, int py, const V3& q_in, const Plane& g, ShadowmapStats& st) const {
-    // A receiver beyond the map's farthest surface (far_z, where the background stands in the
-    // SATs and the HSM) is shaded as lying on it: else the background would block it. (A
-    // surface at far_z itself then no longer blocks it; the background a quarter farther,
-    // tried, kept that but cost grazing 0.062 -> 0.080 and lowlight 0.242 -> 0.301 RMSE.)
-    const V3 q = {q_in[0], q_in[1], std::min(q_in[2], v.far_z)};
-    const double tw = 2.0 * q[2] * G.tan_y / G.map.height;
-    const double k = s.light_radius * G.map.height / (2.0 * G.tan_y);
-    (void)px;
-    (void)py;
-    const double rs = std::min(k * std::max(1.0 / G.map.min_depth - 1.0 / q[2], 0.0), s.max_radius);
-    F2 a, b;
-    square(q, rs, a, b);
-    const double lim = g[3] * tw * (rs + 1.0) * 1.5;
-    const double unbias = s.bias * tw + s.spread_bias * g[2];
-    const double base = q[2] - s.bias * tw - s.spread_bias * g[2];
-    const auto zr = hsm_range(a, b);
-    if (zr[0] >= base + lim) { ++st.skipped; return {1.0, 0.0}; }
-    if (zr[1] < base - lim) { ++st.skipped; return {0.0, 0.0}; }
+  // The blocker search over [a, b) (Algorithm 2, L11-L15): whether it finds blockers, and their
+  // mean depth zavg.
+  bool blocker_search(const V3& q, const Plane& g, double tw, double unbias, F2 a, F2 b,
+                      double& zavg) const {
     double sA = 0, sZ = 0, sZ2 = 0, sT = 0, bPcf = 0, zPcf = 0;
     const int m = s.vssm_m;
     for (int iy = 0; iy < m; ++iy)
@@ -255,8 +241,43 @@ struct VssmRef {
         }
       }
     }
-    if (bVsm + bPcf <= 0) { ++st.skipped; return {1.0, 0.0}; }
-    const double zavg = std::clamp((zVsm + zPcf) / (bVsm + bPcf), G.map.min_depth, q[2]);
+    if (bVsm + bPcf <= 0) return false;
+    zavg = std::clamp((zVsm + zPcf) / (bVsm + bPcf), G.map.min_depth, q[2]);
+    return true;
+  }
+
+  // One pixel inside the map, not back-facing.
+  Shaded shade(int px, int py, const V3& q_in, const Plane& g, ShadowmapStats& st) const {
+    // A receiver beyond the map's farthest surface (far_z, where the background stands in the
+    // SATs and the HSM) is shaded as lying on it: else the background would block it. (A
+    // surface at far_z itself then no longer blocks it; the background a quarter farther,
+    // tried, kept that but cost grazing 0.062 -> 0.080 and lowlight 0.242 -> 0.301 RMSE.)
+    const V3 q = {q_in[0], q_in[1], std::min(q_in[2], v.far_z)};
+    const double tw = 2.0 * q[2] * G.tan_y / G.map.height;
+    const double k = s.light_radius * G.map.height / (2.0 * G.tan_y);
+    (void)px;
+    (void)py;
+    const double rs = std::min(k * std::max(1.0 / G.map.min_depth - 1.0 / q[2], 0.0), s.max_radius);
+    F2 a, b;
+    square(q, rs, a, b);
+    const double lim = g[3] * tw * (rs + 1.0) * 1.5;
+    const double unbias = s.bias * tw + s.spread_bias * g[2];
+    const double base = q[2] - s.bias * tw - s.spread_bias * g[2];
+    const auto zr = hsm_range(a, b);
+    if (zr[0] >= base + lim) { ++st.skipped; return {1.0, 0.0}; }
+    if (zr[1] < base - lim) { ++st.skipped; return {0.0, 0.0}; }
+    // The search narrowed to the blockers' cone (the top of the file), while it shrinks.
+    double zavg = 0;
+    bool found = blocker_search(q, g, tw, unbias, a, b, zavg);
+    double hs = std::max(rs, 0.5);
+    for (int pass = 0; found && pass < s.vssm_narrow; ++pass) {
+      const double hn = Geom::cone_box(k, zavg, q[2], VSSM_NARROW_MARGIN, s.max_radius);
+      if (hn >= hs) break;
+      square(q, hn, a, b);
+      found = blocker_search(q, g, tw, unbias, a, b, zavg);
+      hs = hn;
+    }
+    if (!found) { ++st.skipped; return {1.0, 0.0}; }
     double rf = k * std::max(1.0 / zavg - 1.0 / q[2], 0.0);
     if (rf > s.max_radius) { rf = s.max_radius; ++st.clamped; }
     square(q, 0.886226925452758 * rf, a, b);
@@ -316,6 +337,7 @@ struct VssmRef {
 };
 
 shaders::VssmParams vssm_params(const ShadowmapSettings& s, const VssmSetup& v) {
+  if (s.vssm_narrow < 0 || s.vssm_narrow > 4) throw std::invalid_argument("shadows.vssm_narrow out of range");
   shaders::VssmParams p{};
   p.m = uint32_t(s.vssm_m);
   p.tree_h = uint32_t(s.vssm_h);
@@ -329,6 +351,7 @@ shaders::VssmParams vssm_params(const ShadowmapSettings& s, const VssmSetup& v) 
   p.scale1 = float(v.f1.scale);
   p.off2 = float(v.f2.offset);
   p.scale2 = float(v.f2.scale);
+  p.narrow = uint32_t(s.vssm_narrow);
   // On the GPU level 0 is the map itself (not stored): levels 1... from offset 0.
   const size_t base = v.level_off.size() > 1 ? v.level_off[1] : 0;
   for (size_t L = 0; L < v.level_w.size(); ++L) {
