@@ -53,7 +53,11 @@ struct ShadowmapParams {
   float input_edges;  // shadows.input_edges, texels (0: off): L.shadow's weight (sm_input_edges)
   uint facing;  // 1: a sphere light, its disk facing the receiver; 0: a disk or rect light in the
                 // map's plane (sm_irradiance's emitter cosine)
+  uint pcss_narrow;  // shadows.pcss_narrow: pcss's narrowed blocker searches
 };
+// A pcss narrowed blocker search's radius over the light's cone at the mean blocker depth
+// (shadowmap_pcss.comp).
+#define PCSS_NARROW_MARGIN 1.5
 // sm_irradiance: the receiver's cosine to the light's centre is kept above this in the weights'
 // normalisation (a receiver edge-on to the light's centre still sees its upper half).
 #define SHADOWMAP_MIN_CN 1e-3

@@ -96,6 +96,51 @@ TEST_F(ShadowmapGpu, PcssParallelPlanesMatchesClosedForm) {
   }
 }
 
+// pcss's narrowed blocker search (shadows.pcss_narrow, shadowmap_pcss.comp) on test_vssm.cpp's
+// scene: the parallel planes with a strip at depth 1 in front of the occluder that shadows
+// nothing the occluder does not (the truth is the strip-free map's result) but lies in the first
+// search's region of the receivers in the penumbra. Narrowed once, the search leaves the strip
+// out: the result is the strip-free map's at every pixel, and receivers whose cone misses the
+// occluder skip as lit.
+TEST_F(ShadowmapGpu, PcssNarrowedBlockerSearchMatchesReference) {
+  Planes pl;
+  pl.w = pl.h = 64;
+  pl.map = 128;
+  const auto plain = pl.shadowmap();
+  auto z = plain.z;
+  for (int j = 0; j < pl.map; ++j)
+    for (int i = 44; i < 56; ++i) z[size_t(j) * size_t(pl.map) + size_t(i)] = 1.0f;
+  const auto map = fx::make_shadowmap(pl.map, pl.map, std::move(z));
+  const auto in = pl.inputs();
+  auto s = pl.settings(32, "stratified");
+  ASSERT_EQ(s.pcss_narrow, 1);  // the default
+  auto n0 = s;
+  n0.pcss_narrow = 0;
+  fx::ShadowmapStats sr, sg, s0;
+  const auto want = fx::pcss_reference(in, map, s, &sr);
+  const auto got = run_gpu(ctx(), in, map, s, &sg);
+  const auto truth = fx::pcss_reference(in, plain, s, nullptr);  // the strip-free map
+  const auto thesis = fx::pcss_reference(in, map, n0, &s0);
+  auto rmse = [&](const std::vector<float>& a) {
+    double e = 0;
+    for (size_t i = 0; i < a.size(); ++i) e += (double(a[i]) - truth[i]) * (double(a[i]) - truth[i]);
+    return std::sqrt(e / double(a.size()));
+  };
+  double md, mt;
+  const size_t bad = mismatches(got, want, &md);
+  const size_t off = mismatches(want, truth, &mt);
+  const double e = rmse(want), e0 = rmse(thesis);
+  std::printf("narrowed search, pcss 32 taps: RMSE %.4f against the strip-free map's result "
+              "(single search %.4f); %.1f%% skipped (single search %.1f%%); GPU and reference "
+              "differ at %zu pixels (max %.4f)\n",
+              e, e0, 100 * sr.skipped_fraction(), 100 * s0.skipped_fraction(), bad, md);
+  EXPECT_LE(bad, want.size() / 100);
+  EXPECT_NEAR(double(sg.skipped), double(sr.skipped), 0.005 * double(sr.pixels));
+  EXPECT_GT(e0, 0.01);  // the strip does move the single search
+  EXPECT_EQ(off, 0u) << "max " << mt;
+  EXPECT_GT(sr.skipped, s0.skipped + sr.pixels / 20);
+}
+
 // A ramp rising out of a floor, both lit at grazing angles (the own Cycles case `grazing`, issue
 // 19): in light space (light at the origin looking down -z, 90 degree map) the floor lies at
 // depth z_f(x) = 8 + 7x (lit 8 degrees above its plane) and the ramp, from the line x = 0 where it
@@ -145,7 +190,7 @@ TEST_F(ShadowmapGpu, MapMethodsKeepARampOverAGrazingFloorLit) {
     for (int r = 0; r < 2; ++r) {
       auto s = pl.settings(64, "stratified", method);
       s.reach = r ? 2.0 : 0.0;
-      s.vssm_narrow = 0;  // the reach test alone (the narrowed search: below)
+      s.pcss_narrow = s.vssm_narrow = 0;  // the reach test alone (the narrowed searches: below)
       fx::ShadowmapStats st;
       const auto got = run_gpu(ctx(), in, smap, s, &st);
       const auto want = method == "pcss" ? fx::pcss_reference(in, smap, s, nullptr)
@@ -184,24 +229,28 @@ TEST_F(ShadowmapGpu, MapMethodsKeepARampOverAGrazingFloorLit) {
     // Without the reach test the ramp is dark past the seam's band: the test sees what it guards.
     EXPECT_GE(dark[0], 0.05) << method;
   }
-  // vssm's narrowed search (shadows.vssm_narrow) leaves those floor texels out of the mean
-  // blocker depth, and so keeps the ramp lit without the reach test too.
-  auto s = pl.settings(64, "stratified", "vssm");
-  s.reach = 0.0;
-  ASSERT_GT(s.vssm_narrow, 0);
-  const auto got = run_gpu(ctx(), in, smap, s, nullptr);
-  const auto want = fx::vssm_reference(in, smap, s, nullptr);
-  double md, dark = 0;
-  for (int y = 1; y < h - 1; ++y)
-    for (int x = 1; x < w - 1; ++x) {
-      const size_t i = size_t(y) * w + x;
-      if (std::abs(in.position[i]) >= band) dark = std::max(dark, 1.0 - double(got[i]));
-    }
-  const size_t bad = mismatches(got, want, &md);
-  std::printf("ramp over a grazing floor, vssm narrowed, reach 0: darkest %.3f beyond %.3f of the "
-              "seam; GPU and reference differ at %zu pixels (max %.3f)\n", dark, band, bad, md);
-  EXPECT_LE(dark, 0.02);
-  EXPECT_LE(bad, n / 100);
+  // The narrowed searches (shadows.pcss_narrow, shadows.vssm_narrow) leave those floor texels
+  // out of the mean blocker depth, and so keep the ramp lit without the reach test too.
+  for (const std::string method : {"pcss", "vssm"}) {
+    auto s = pl.settings(64, "stratified", method);
+    s.reach = 0.0;
+    ASSERT_GT(method == "pcss" ? s.pcss_narrow : s.vssm_narrow, 0);
+    const auto got = run_gpu(ctx(), in, smap, s, nullptr);
+    const auto want = method == "pcss" ? fx::pcss_reference(in, smap, s, nullptr)
+                                       : fx::vssm_reference(in, smap, s, nullptr);
+    double md, dark = 0;
+    for (int y = 1; y < h - 1; ++y)
+      for (int x = 1; x < w - 1; ++x) {
+        const size_t i = size_t(y) * w + x;
+        if (std::abs(in.position[i]) >= band) dark = std::max(dark, 1.0 - double(got[i]));
+      }
+    const size_t bad = mismatches(got, want, &md);
+    std::printf("ramp over a grazing floor, %s narrowed, reach 0: darkest %.3f beyond %.3f of the "
+                "seam; GPU and reference differ at %zu pixels (max %.3f)\n",
+                method.c_str(), dark, band, bad, md);
+    EXPECT_LE(dark, 0.02) << method;
+    EXPECT_LE(bad, n / 100) << method;
+  }
 }
 
 // shadows.input_edges: a near-point light (penumbra 0.004 texels wide) and a 32² map whose texel is

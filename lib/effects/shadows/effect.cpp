@@ -69,6 +69,12 @@ class Shadows final : public Effect {
        "pcss: blocker-search and PCF taps per pixel (stratified: rounded to a square grid)"),
       params::def(shadow_keys::pcss_pattern, "stratified", {"stratified", "poisson"},
        "pcss: tap pattern in the disk, rotated per pixel when shadows.rotate is on"),
+      params::def(shadow_keys::pcss_narrow, "1", 0, 4,
+       "pcss: passes that search for blockers again, with the same taps, over the disk of the "
+       "light's cone at the mean blocker depth found so far (x1.5), while it shrinks: blockers "
+       "outside it cannot shadow the receiver, yet they moved the mean (the first search is "
+       "sized for the nearest depth in the map); 0: the thesis's single search; each pass "
+       "costs the search's taps again"),
       params::def(shadow_keys::reach, "2", 0, 1e3,
        "pcss, vssm: a filter tap's texel in front of the receiver plane shadows the pixel only "
        "within this many times the reach of the light's cone from the pixel at the texel's depth "
@@ -177,10 +183,11 @@ class Shadows final : public Effect {
   // shadows.method = auto: each light's method from the frame's pixels. A shadow-map method
   // named explicitly where auto would take another runs as asked, with a note saying which and
   // why (issue 19): isg (a grazing light, a scene far from the origin), or pcss where cssm is
-  // named (on the Cycles cases where auto takes pcss, pcss's error was lower than cssm's on all
-  // but own `overlap`: docs/benchmark/shadow_cases.md). vssm's was lower than pcss's on every
-  // one of them since its narrowed search, at some 20 times pcss's GPU time on lavapipe: auto
-  // keeps pcss, and says nothing where vssm is named.
+  // named (on the Cycles cases where auto takes pcss, pcss's error is lower than cssm's:
+  // docs/benchmark/shadow_cases.md). Where vssm is named it says nothing: with the narrowed
+  // searches vssm's error and pcss's are within 5 % of each other on those cases, either way
+  // round (lower on shared contact and rowdepth, higher on lowlight and overlap), vssm at some
+  // 20 times pcss's GPU time on lavapipe.
   void choose(const PlanContext& c, const io::Image& img, Choices& out) const override {
     const std::string m = c.p.get(shadow_keys::method);
     const bool map_method = m == "pcss" || m == "vssm" || m == "cssm";

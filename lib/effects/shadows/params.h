@@ -15,6 +15,7 @@ inline constexpr params::Flag rotate{"shadows.rotate"};
 inline constexpr params::Flag search_reach{"shadows.search_reach"};
 inline constexpr params::Flag tile_skip{"shadows.tile_skip"};
 inline constexpr params::Int pcss_taps{"shadows.pcss_taps"};
+inline constexpr params::Int pcss_narrow{"shadows.pcss_narrow"};
 inline constexpr params::Choice pcss_pattern{"shadows.pcss_pattern"};
 inline constexpr params::Number reach{"shadows.reach"};
 inline constexpr params::Number input_edges{"shadows.input_edges"};

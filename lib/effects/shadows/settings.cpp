@@ -98,6 +98,7 @@ ShadowmapSettings shadowmap_settings(const io::Light& light, const io::Camera* c
   s.light_radius = light_size(light);
   s.facing = light.type == io::LightType::sphere;
   s.taps = int(p.get(shadow_keys::pcss_taps));
+  s.pcss_narrow = int(p.get(shadow_keys::pcss_narrow));
   s.pattern = p.get(shadow_keys::pcss_pattern);
   s.reach = p.get(shadow_keys::reach);
   s.input_edges = p.get(shadow_keys::input_edges);

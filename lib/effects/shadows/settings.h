@@ -68,6 +68,7 @@ struct ShadowmapSettings {
   bool facing = true;                     // a sphere light (its disk faces the receiver), not a
                                           // disk or rect light (in the map's plane)
   int taps = 32;                          // shadows.pcss_taps
+  int pcss_narrow = 1;  // shadows.pcss_narrow: blocker searches narrowed to the blockers' cone
   std::string pattern = "stratified";     // shadows.pcss_pattern: stratified | poisson
   double reach = 2.0;                     // shadows.reach: pcss's and vssm's filter taps (0: off)
   double input_edges = 2.0;               // shadows.input_edges, texels (0: off)

@@ -79,23 +79,37 @@ std::vector<float> pcss_reference(const ShadowmapInputs& in, const ShadowmapData
           const V2 u = unit(t);
           return {std::floor(q[0] + u[0] * r) + 0.5, std::floor(q[1] + u[1] * r) + 0.5};
         };
-        double rs = std::min(k * std::max(1.0 / map.min_depth - 1.0 / q[2], 0.0), s.max_radius);
-        double sum = 0;
-        size_t cnt = 0;
-        for (size_t t = 0; t < nt; ++t) {
-          V2 c = tap(t, rs);
-          if (!G.in_map(c[0], c[1])) continue;
-          double zm = G.fetch(c[0], c[1]);
-          if (zm < G.threshold(q, g, c[0], c[1], texel_world)) {
-            sum += zm;
-            ++cnt;
+        // The blocker search over the disk of radius r: whether it finds blockers, their mean
+        // depth in db.
+        auto search = [&](double r, double& db) {
+          double sum = 0;
+          size_t cnt = 0;
+          for (size_t t = 0; t < nt; ++t) {
+            V2 c = tap(t, r);
+            if (!G.in_map(c[0], c[1])) continue;
+            double zm = G.fetch(c[0], c[1]);
+            if (zm < G.threshold(q, g, c[0], c[1], texel_world)) {
+              sum += zm;
+              ++cnt;
+            }
           }
+          db = cnt > 0 ? sum / double(cnt) : 0.0;
+          return cnt > 0;
+        };
+        double rs = std::min(k * std::max(1.0 / map.min_depth - 1.0 / q[2], 0.0), s.max_radius);
+        double db = 0;
+        bool found = search(rs, db);
+        // Narrowed to the blockers' cone, while it shrinks (shadowmap_pcss.comp).
+        for (int pass = 0; found && pass < s.pcss_narrow; ++pass) {
+          const double rn = std::min(PCSS_NARROW_MARGIN * k * std::max(1.0 / db - 1.0 / q[2], 0.0), s.max_radius);
+          if (rn >= rs) break;
+          found = search(rn, db);
+          rs = rn;
         }
-        if (cnt == 0) {
+        if (!found) {
           ++st.skipped;
           return {1.0, 0.0};
         }
-        double db = sum / double(cnt);
         double rf = k * std::max(1.0 / db - 1.0 / q[2], 0.0);
         if (rf > s.max_radius) {
           rf = s.max_radius;
@@ -138,6 +152,8 @@ shaders::ShadowmapParams shadowmap_params(const ShadowmapSettings& s, const Shad
   p.taps = taps;
   p.rotate = s.rotate ? 1u : 0u;
   p.facing = s.facing ? 1u : 0u;
+  if (s.pcss_narrow < 0 || s.pcss_narrow > 4) throw std::invalid_argument("shadows.pcss_narrow out of range");
+  p.pcss_narrow = uint32_t(s.pcss_narrow);
   const auto& m = s.world_to_light;
   float* L[12] = {&p.l00, &p.l01, &p.l02, &p.l03, &p.l10, &p.l11,
                   &p.l12, &p.l13, &p.l20, &p.l21, &p.l22, &p.l23};
