@@ -12,7 +12,7 @@
 // with the same taps, over the disk of the cone at the mean found so far (PCSS_NARROW_MARGIN times
 // wider), while it shrinks: where it finds no blocker the receiver is lit, else its mean is the
 // new one. Ratio to doing nothing's RMSE (32 taps), 0 -> 1 pass: own Cycles cases grazing 0.43 ->
-// 0.35, lowlight 0.35 -> 0.27, overlap 0.31 -> 0.24, grazing-sm4096 0.36 -> 0.24; shared contact
+// 0.35, lowlight 0.35 -> 0.27, overlap 0.31 -> 0.23, grazing-sm4096 0.36 -> 0.24; shared contact
 // 0.23 -> 0.21, rowdepth 0.24 -> 0.19. Margin 1.25 and 1.75: lowlight 0.26, 0.27; overlap 0.22,
 // 0.24; rowdepth 0.18, 0.20; 2 passes at 1.5: lowlight 0.25, overlap 0.22, but isg-synth contact
 // (whose L.shadow is not antialiased: a narrower penumbra hands its edge to the input) 6 % worse

@@ -96,13 +96,18 @@ TEST_F(ShadowmapGpu, PcssParallelPlanesMatchesClosedForm) {
   }
 }
 
-// pcss's narrowed blocker search (shadows.pcss_narrow, shadowmap_pcss.comp) on test_vssm.cpp's
-// scene: the parallel planes with a strip at depth 1 in front of the occluder that shadows
-// nothing the occluder does not (the truth is the strip-free map's result) but lies in the first
-// search's region of the receivers in the penumbra. Narrowed once, the search leaves the strip
-// out: the result is the strip-free map's at every pixel, and receivers whose cone misses the
-// occluder skip as lit.
-TEST_F(ShadowmapGpu, PcssNarrowedBlockerSearchMatchesReference) {
+// The narrowed blocker searches of pcss and vssm (shadows.pcss_narrow, shadowmap_pcss.comp;
+// shadows.vssm_narrow, shadowmap_vssm.glsl). The parallel planes (occluder at 2 over x < 0,
+// receivers at 4, light radius 0.2, 128² map: the occluder's cone is 3.2 texels, the penumbra
+// map columns 61-67) with a strip at depth 1 in front of the occluder, map columns 44-56 (x/z
+// from -0.31 to -0.125). Every ray from a receiver to the light that passes the occluder crosses
+// depth 1 at x/z >= -0.1, so the strip shadows nothing the occluder does not: the truth is the
+// strip-free map's result. But it sets the map's nearest depth, so the first search (the cone at
+// it, 9.6 texels) takes it in for receivers in the penumbra, and their mean blocker depth moves
+// towards 1. Narrowed to the cone at the mean, the search leaves the strip out: the result is the
+// strip-free map's at every pixel, where the single search's is not, and receivers whose cone
+// misses the occluder skip as lit. GPU and reference alike.
+TEST_F(ShadowmapGpu, MapMethodsNarrowTheBlockerSearchToTheBlockersCone) {
   Planes pl;
   pl.w = pl.h = 64;
   pl.map = 128;
@@ -112,33 +117,37 @@ TEST_F(ShadowmapGpu, PcssNarrowedBlockerSearchMatchesReference) {
     for (int i = 44; i < 56; ++i) z[size_t(j) * size_t(pl.map) + size_t(i)] = 1.0f;
   const auto map = fx::make_shadowmap(pl.map, pl.map, std::move(z));
   const auto in = pl.inputs();
-  auto s = pl.settings(32, "stratified");
-  ASSERT_EQ(s.pcss_narrow, 1);  // the default
-  auto n0 = s;
-  n0.pcss_narrow = 0;
-  fx::ShadowmapStats sr, sg, s0;
-  const auto want = fx::pcss_reference(in, map, s, &sr);
-  const auto got = run_gpu(ctx(), in, map, s, &sg);
-  const auto truth = fx::pcss_reference(in, plain, s, nullptr);  // the strip-free map
-  const auto thesis = fx::pcss_reference(in, map, n0, &s0);
-  auto rmse = [&](const std::vector<float>& a) {
-    double e = 0;
-    for (size_t i = 0; i < a.size(); ++i) e += (double(a[i]) - truth[i]) * (double(a[i]) - truth[i]);
-    return std::sqrt(e / double(a.size()));
-  };
-  double md, mt;
-  const size_t bad = mismatches(got, want, &md);
-  const size_t off = mismatches(want, truth, &mt);
-  const double e = rmse(want), e0 = rmse(thesis);
-  std::printf("narrowed search, pcss 32 taps: RMSE %.4f against the strip-free map's result "
-              "(single search %.4f); %.1f%% skipped (single search %.1f%%); GPU and reference "
-              "differ at %zu pixels (max %.4f)\n",
-              e, e0, 100 * sr.skipped_fraction(), 100 * s0.skipped_fraction(), bad, md);
-  EXPECT_LE(bad, want.size() / 100);
-  EXPECT_NEAR(double(sg.skipped), double(sr.skipped), 0.005 * double(sr.pixels));
-  EXPECT_GT(e0, 0.01);  // the strip does move the single search
-  EXPECT_EQ(off, 0u) << "max " << mt;
-  EXPECT_GT(sr.skipped, s0.skipped + sr.pixels / 20);
+  for (const std::string method : {"pcss", "vssm"}) {
+    auto s = pl.settings(32, "stratified", method);
+    s.scene_radius = 4.0;  // vssm's thresholds (flat, contact) in the scene's units
+    ASSERT_EQ(s.pcss_narrow, 1);  // the defaults
+    ASSERT_EQ(s.vssm_narrow, 2);
+    auto n0 = s;
+    n0.pcss_narrow = n0.vssm_narrow = 0;
+    auto ref = [&](const fx::ShadowmapData& m, const fx::ShadowmapSettings& st, fx::ShadowmapStats* out) {
+      return method == "pcss" ? fx::pcss_reference(in, m, st, out) : fx::vssm_reference(in, m, st, out);
+    };
+    fx::ShadowmapStats sr, sg, s0;
+    const auto want = ref(map, s, &sr);
+    const auto got = run_gpu(ctx(), in, map, s, &sg);
+    const auto truth = ref(plain, s, nullptr);  // the strip-free map
+    const auto thesis = ref(map, n0, &s0);
+    double md, mt, m0;
+    const size_t bad = mismatches(got, want, &md);
+    const size_t off = mismatches(want, truth, &mt);
+    const size_t off0 = mismatches(thesis, truth, &m0);
+    std::printf("narrowed search, %s: %zu pixels off the strip-free map's result (max %.4f), "
+                "single search %zu (max %.4f); %.1f%% skipped (single search %.1f%%); GPU and "
+                "reference differ at %zu pixels (max %.4f)\n",
+                method.c_str(), off, mt, off0, m0, 100 * sr.skipped_fraction(),
+                100 * s0.skipped_fraction(), bad, md);
+    EXPECT_LE(bad, want.size() / 200) << method;
+    EXPECT_EQ(sg.pixels, sr.pixels) << method;
+    EXPECT_NEAR(double(sg.skipped), double(sr.skipped), 0.005 * double(sr.pixels)) << method;
+    EXPECT_EQ(off, 0u) << method;
+    EXPECT_GT(off0, want.size() / 20) << method;  // the strip does move the single search
+    EXPECT_GT(sr.skipped, s0.skipped + sr.pixels / 20) << method;  // the lit side skips
+  }
 }
 
 // A ramp rising out of a floor, both lit at grazing angles (the own Cycles case `grazing`, issue

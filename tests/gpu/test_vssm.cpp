@@ -118,51 +118,6 @@ TEST_F(Vssm, ParallelPlanesMatchesClosedForm) {
   }
 }
 
-// The narrowed blocker search (shadows.vssm_narrow, shadowmap_vssm.glsl). The parallel planes
-// (occluder at 2 over x < 0, receivers at 4, light radius 0.2, 128² map: the occluder's cone is
-// 3.2 texels, the penumbra map columns 61-67) with a strip at depth 1 in front of the occluder,
-// map columns 44-56 (x/z from -0.31 to -0.125). Every ray from a receiver to the light that
-// passes the occluder crosses depth 1 at x/z >= -0.1, so the strip shadows nothing the occluder
-// does not: the truth is the map without it. But it sets the map's nearest depth, so PCSS's
-// search region (its cone, 9.6 texels) takes it in for receivers in the penumbra, and their mean
-// blocker depth moves towards 1. Narrowed to the cone at the mean, the search leaves the strip
-// out: the result is the strip-free map's at every pixel, where the single search's is not, and
-// receivers whose cone misses the occluder skip as lit. GPU and reference alike.
-TEST_F(Vssm, NarrowedBlockerSearchMatchesReference) {
-  Planes pl;
-  pl.w = pl.h = 64;
-  pl.map = 128;
-  const auto plain = pl.shadowmap();
-  auto z = plain.z;
-  for (int j = 0; j < pl.map; ++j)
-    for (int i = 44; i < 56; ++i) z[size_t(j) * size_t(pl.map) + size_t(i)] = 1.0f;
-  const auto map = fx::make_shadowmap(pl.map, pl.map, std::move(z));
-  const auto in = pl.inputs();
-  auto s = vssm(pl, 5, 2, 4);
-  ASSERT_EQ(s.vssm_narrow, 2);  // the default
-  auto n0 = s;
-  n0.vssm_narrow = 0;
-  fx::ShadowmapStats sr, sg, s0;
-  const auto want = fx::vssm_reference(in, map, s, &sr);
-  const auto got = isg::test::run_gpu(ctx(), in, map, s, &sg);
-  const auto truth = fx::vssm_reference(in, plain, s, nullptr);  // the strip-free map
-  const auto thesis = fx::vssm_reference(in, map, n0, &s0);
-  double md, mt, m0;
-  const size_t bad = isg::test::mismatches(got, want, &md);
-  const size_t off = isg::test::mismatches(want, truth, &mt);
-  const size_t off0 = isg::test::mismatches(thesis, truth, &m0);
-  std::printf("narrowed search, vssm m 5 H 2: %zu pixels off the strip-free map's result (max "
-              "%.4f), single search %zu (max %.4f); %.1f%% skipped (single search %.1f%%); GPU "
-              "and reference differ at %zu pixels (max %.4f)\n",
-              off, mt, off0, m0, 100 * sr.skipped_fraction(), 100 * s0.skipped_fraction(), bad, md);
-  EXPECT_LE(bad, want.size() / 200);
-  EXPECT_EQ(sg.pixels, sr.pixels);
-  EXPECT_NEAR(double(sg.skipped), double(sr.skipped), 0.005 * double(sr.pixels));
-  EXPECT_EQ(off, 0u);
-  EXPECT_GT(off0, want.size() / 20);                   // the strip does move the single search
-  EXPECT_GT(sr.skipped, s0.skipped + sr.pixels / 20);  // and the narrowing skips the lit side
-}
-
 // isg-synth `stack`: three blockers at different heights over one receiver, the non-planar
 // configuration where one VSM over the whole kernel lights what is in shadow (§7.4.1).
 TEST_F(Vssm, SubdivisionBeatsNoneOnStack) {
