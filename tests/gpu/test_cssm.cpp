@@ -112,10 +112,7 @@ TEST_F(CssmGpu, BlockersTheExpansionCannotResolveKeepTheInputsEdge) {
   Planes pl;
   pl.d_o = 3.7;
   pl.R = 1.0;
-  auto map = pl.shadowmap();
-  for (int j = 0; j < 4; ++j)
-    for (int i = 0; i < 4; ++i) map.z[size_t(j) * size_t(pl.map) + size_t(i)] = 40.0f;
-  map = fx::make_shadowmap(pl.map, pl.map, std::move(map.z));
+  const auto map = pl.shadowmap_with(0, 4, 0, 4, 40.0f);  // a patch in the map's corner
   const auto in = pl.inputs();
   const auto s = cssm_settings(pl, 8, "sat");
   const auto want = fx::cssm_reference(in, map, s, nullptr);
@@ -215,10 +212,7 @@ TEST_F(CssmGpu, NarrowedBlockerSearchMatchesReference) {
   Planes pl;
   pl.w = pl.h = 64;
   pl.map = 128;
-  auto map = pl.shadowmap();
-  for (int j = 0; j < 4; ++j)
-    for (int i = 0; i < 4; ++i) map.z[size_t(j) * size_t(pl.map) + size_t(i)] = 0.5f;
-  map = fx::make_shadowmap(pl.map, pl.map, std::move(map.z));
+  const auto map = pl.shadowmap_with(0, 4, 0, 4, 0.5f);  // a patch in the map's corner
   const auto in = pl.inputs();
   auto s = cssm_settings(pl, 8, "sat");
   ASSERT_EQ(s.cssm_narrow, 2);  // the default

@@ -112,10 +112,7 @@ TEST_F(ShadowmapGpu, MapMethodsNarrowTheBlockerSearchToTheBlockersCone) {
   pl.w = pl.h = 64;
   pl.map = 128;
   const auto plain = pl.shadowmap();
-  auto z = plain.z;
-  for (int j = 0; j < pl.map; ++j)
-    for (int i = 44; i < 56; ++i) z[size_t(j) * size_t(pl.map) + size_t(i)] = 1.0f;
-  const auto map = fx::make_shadowmap(pl.map, pl.map, std::move(z));
+  const auto map = pl.shadowmap_with(44, 56, 0, pl.map, 1.0f);  // the strip
   const auto in = pl.inputs();
   for (const std::string method : {"pcss", "vssm"}) {
     auto s = pl.settings(32, "stratified", method);

@@ -38,6 +38,13 @@ struct Planes {
       }
     return fx::make_shadowmap(map, map, std::move(z));
   }
+  // The same map with texels [x0, x1) x [y0, y1) set to depth d (an extra blocker).
+  fx::ShadowmapData shadowmap_with(int x0, int x1, int y0, int y1, float d) const {
+    auto z = shadowmap().z;
+    for (int j = y0; j < y1; ++j)
+      for (int i = x0; i < x1; ++i) z[size_t(j) * size_t(map) + size_t(i)] = d;
+    return fx::make_shadowmap(map, map, std::move(z));
+  }
   // Receivers on a grid x, y ∈ [-1, 1] (as P); L.shadow the renderer's hard verdict, the ray
   // from the light's centre (the origin) to the receiver: blocked where it crosses depth d_o at
   // x < edge·d_o, i.e. x / z < edge with the occluder in front.

@@ -87,7 +87,6 @@ namespace {
 constexpr double kBoxOfDisk = 0.886226925452758;  // √π / 2: a square of the disk's area
 constexpr double kMinHalfWidth = 0.5;             // texels: the box covers at least one texel
 constexpr double kMinBlockers = 1e-3;             // 1 − s_f below it: no blockers (eq. 5.8)
-constexpr double kNarrowMargin = CSSM_NARROW_MARGIN;  // the narrowed search's radius over the cone's
 
 // The truncated expansion f_M(x) of the visibility (eq. 5.10, f = 1 − f̄).
 double f_m(int M, double x) {
@@ -368,7 +367,7 @@ std::vector<float> cssm_reference(const ShadowmapInputs& in, const ShadowmapData
     double zb = u.zmin + z_avg * u.zrange;
     // The search narrowed to the blockers' cone (see the top of the file), while it shrinks.
     for (int pass = 0; pass < u.narrow; ++pass) {
-      const double hn = Geom::cone_box(k, zb, q[2], kNarrowMargin, s.max_radius);
+      const double hn = Geom::cone_box(k, zb, q[2], CSSM_NARROW_MARGIN, s.max_radius);
       if (hn >= hs) break;
       const double sn = visibility(hn);
       if (suppress(u, sn) >= 1.0 || 1.0 - sn < kMinBlockers) {
