@@ -106,7 +106,7 @@ TEST_F(CssmGpu, ParallelPlanesMatchesClosedForm) {
 // than shadows.input_edges' 2 texels but narrower than the 15 texels a blocker x0 / s_z in front
 // casts, so the input's edge stands there (Shaded::r_min, issue 19). The GPU follows the
 // reference, and the result is no worse than the input's hard edge. Measured against the closed
-// form: 0.0733, the hard input's own; the expansion alone 0.1987; with input_edges' 2 texels as
+// form: 0.0725, the hard input's own; the expansion alone 0.1987; with input_edges' 2 texels as
 // the only floor (before r_min) 0.1032, worse than doing nothing.
 TEST_F(CssmGpu, BlockersTheExpansionCannotResolveKeepTheInputsEdge) {
   Planes pl;
