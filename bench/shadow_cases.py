@@ -22,6 +22,9 @@ scene (the sphere self-shadows in bumps, edges step by P's float32 step). Per fa
 gives each method's error from P over the pixels where Cycles agrees with itself (the masks of both
 references, and |far reference - origin reference| < AGREE_TOL), next to the same method's error at
 the origin over the same pixels: there the method's own dependence on where the scene stands shows.
+That set leaves out most penumbra pixels, where the methods differ. So the page also gives the same
+over every pixel of both masks but Cycles' far acne: pixels its origin render lights (input key.shadow
+>= LIT, reference >= LIT_REF) that its far render's input shadows (key.shadow < LIT_REF).
 
 Writes bench/out/shadow_cases.json and docs/benchmark/shadow_cases.md."""
 import argparse, os, platform, re, subprocess, sys
@@ -45,6 +48,8 @@ INPUTS = ("P", "Z")
 ORIGIN = "shared contact"  # the scene the own contact-far* cases move away from the origin
 AGREE_TOL = 0.01           # |far reference - origin reference| under this: Cycles agrees with itself
 MAP_TOL = 0.01             # metres: the shadow maps' texels further apart than this
+LIT = 0.999                # the origin's input key.shadow at least this, its reference at least
+LIT_REF = 0.98             # this, and the far input's key.shadow under it: Cycles' far acne
 
 
 def is_far(label):
@@ -162,14 +167,28 @@ def far_agreement(t, res, outs, methods):
         cover = float(re.search(r"Stats Avg: ([0-9.eE+-]+)", sh(["oiiotool", agree, "--printstats"])).group(1))
         mask = float(re.search(r"Stats Avg: ([0-9.eE+-]+)",
                                sh(["oiiotool", f_ref, "--ch", "mask", "--printstats"])).group(1))
+        # Cycles' self-shadowing at the far case (acne): pixels its origin render lights, in the
+        # input's ray-traced key.shadow (>= LIT) and in the reference (>= LIT_REF), that its far
+        # render's input shadows (key.shadow < LIT_REF). The rest of both masks: "clean".
+        at_least = lambda v: ["--subc", f"{v}", "--mulc", "1e9", "--addc", "1", "--clamp:min=0:max=1"]
+        o_aovs, f_aovs = f"{cases[ORIGIN]['dir']}/aovs.exr", f"{r['dir']}/aovs.exr"
+        clean = os.path.join(t.tmp, f"clean-{os.path.basename(r['dir'])}.exr")
+        sh(["oiiotool", o_aovs, "--ch", "key.shadow", *at_least(LIT), o_ref, "--ch", "key.softshadow",
+            *at_least(LIT_REF), "--mul", f_aovs, "--ch", "key.shadow", *at_least(LIT_REF), "--mulc", "-1", "--addc",
+            "1", "--mul", "--mulc", "-1", "--addc", "1", f_ref, "--ch", "mask", "--mul", o_ref, "--ch", "mask",
+            "--mul", "--chnames", "A", "-d", "float", "-o", clean])
+        kept = float(re.search(r"Stats Avg: ([0-9.eE+-]+)", sh(["oiiotool", clean, "--printstats"])).group(1))
         a = {"refs_rmse": compare(t, f_ref, o_ref, ["key.softshadow"], "mask")["rmse"],
              "agree_share": cover / mask if mask > 0 else 0.0, "rmse": {},
+             "clean_share": kept / mask if mask > 0 else 0.0, "clean": {},
              "map": map_agreement(t, r["dir"], cases[ORIGIN]["dir"])}
         for m in ["hard"] + methods:
             k = f"{m}-P"
             if (label, k) in outs and (ORIGIN, k) in outs:
                 a["rmse"][m] = [compare(t, outs[(label, k)], f_ref, ["key.softshadow"], f"{agree}:A")["rmse"],
                                 compare(t, outs[(ORIGIN, k)], o_ref, ["key.softshadow"], f"{agree}:A")["rmse"]]
+                a["clean"][m] = [compare(t, outs[(label, k)], f_ref, ["key.softshadow"], f"{clean}:A")["rmse"],
+                                 compare(t, outs[(ORIGIN, k)], o_ref, ["key.softshadow"], f"{clean}:A")["rmse"]]
         out[label] = a
         print(label, "agreement", a, flush=True)
     return out
@@ -239,6 +258,29 @@ def report(res):
                 v = fa["rmse"].get(m)
                 cells.append("-" if not v else f"{v[0]:.5f} / {v[1]:.5f} ({100 * (v[0] / v[1] - 1):+.0f} %)")
             L.append(f"| {n} | {fa['refs_rmse']:.4f} | {100 * fa['agree_share']:.0f} % | " + " | ".join(cells) + " |")
+        clean = {n: fa for n, fa in far.items() if fa.get("clean")}
+        if clean:
+            L += ["", f"The same, over the pixels of both masks but those where Cycles' far render self-shadows "
+                  f"(acne): its origin render lights the pixel (the input's ray-traced `key.shadow` at least {LIT}, "
+                  f"the reference at least {LIT_REF}) and its far render's input shadows it (`key.shadow` under "
+                  f"{LIT_REF}). There every method keeps the input's ray-traced `key.shadow`, the far render's "
+                  "acne, which its reference has in other places. Per method: RMSE at the far case / at the "
+                  "origin, the change, and the ratio to doing nothing at each.", "",
+                  "| case | pixels of the mask kept | " + " | ".join(["hard"] + methods) + " |",
+                  "|---|---|" + "---|" * (len(methods) + 1)]
+            for n, fa in clean.items():
+                h = fa["clean"].get("hard")
+                cells = []
+                for m in ["hard"] + methods:
+                    v = fa["clean"].get(m)
+                    if not v:
+                        cells.append("-")
+                        continue
+                    c = f"{v[0]:.5f} / {v[1]:.5f} ({100 * (v[0] / v[1] - 1):+.0f} %)"
+                    if m != "hard" and h and h[0] > 0 and h[1] > 0:
+                        c += f"; {v[0] / h[0]:.2f} / {v[1] / h[1]:.2f}"
+                    cells.append(c)
+                L.append(f"| {n} | {100 * fa['clean_share']:.1f} % | " + " | ".join(cells) + " |")
         maps = {n: fa["map"] for n, fa in far.items() if fa.get("map")}
         if maps:
             L += ["", "The same scene's key shadow map as Cycles renders it there, against the origin's (texels "
