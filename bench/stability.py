@@ -4,8 +4,8 @@ isg-synth `contact` with a stress lens, f/0.25, so depth of field blurs 3-7 px (
 reference for each effect); each row changes one thing:
 
 - far world: the scene translated by (1e5, 1e5, 1e5) (isg-synth far-world), and by 1e6
-  (isg-synth far-world-1e6), where P's float32 step (62.5 mm) is wider than a pixel and P is
-  refitted (input.positions);
+  (isg-synth far-world-1e6), where P's float32 step (7.8 mm, 62.5 mm) is wider than a 16th of a
+  pixel and P is refitted (input.positions);
 - huge depth range: a backdrop 1e6 m behind the set, depth 1.5 to 1e6 m in one frame, the light's
   map seeing it beyond its far plane (isg-synth depth-range);
 - grazing: the camera 0.55 m above the floor, 75-89° to its normal (isg-synth grazing);
@@ -93,7 +93,7 @@ def measure():
     keep = os.path.join(t.tmp, "keep.exr")
     rows = [
         ("baseline: isg-synth contact", base, None),
-        ("far world (1e5 from the origin)", case("far-world"), None),
+        ("far world (1e5 from the origin: P refitted)", case("far-world"), None),
         ("far world (1e6 from the origin: P refitted)", case("far-world-1e6"), None),
         ("huge depth range (backdrop at 1e6 m)", case("depth-range"), None),
         ("grazing (floor at 75-89° to the view)", case("grazing"), None),

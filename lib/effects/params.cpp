@@ -13,9 +13,9 @@ std::vector<params::Def> output_params() {
       params::def(output_keys::positions, "auto", {"P", "Z", "auto"},
        "where positions come from: P as the renderer wrote it (consistent with a shadow map the "
        "renderer computed in the same float32 world), refitted into a planar depth over its "
-       "screen neighbours where its float32 step is wider than a pixel at a scene radius from "
-       "the camera (far from the world origin: 6 cm a step at 1e6 m); or Z and the camera, "
-       "refitted the same way there. auto: P where the input has it, else Z"),
+       "screen neighbours where its float32 step is wider than a 16th of a pixel at a scene radius "
+       "from the camera (far from the world origin: 7.8 mm a step at 1e5 m, 6 cm at 1e6 m); or Z "
+       "and the camera, refitted the same way there. auto: P where the input has it, else Z"),
       params::def(output_keys::max_megapixels, "268.5", 0.001, 4096,
        "largest input image accepted, checked before decoding", "megapixels"),
       params::def(output_keys::max_channels, "1024", 1, 65536,

@@ -25,16 +25,19 @@ namespace {
 // input.positions (issue 19): positions from P, or from Z and the camera. P's float32 step
 // (2^-23 of its magnitude rounded down to a power of two, which far from the world origin is the
 // eye's) wider than a pixel at a scene radius from the camera misplaces positions by pixels
-// (1e6 m from the origin, 6.25 cm against 1.9 cm at 480x270): there P is refitted
-// (run/positions.h) into a planar depth that every effect then takes, with the camera, for its
-// positions, depth and foreground. Under a pixel P stays as it is, consistent with a shadow map
-// the renderer computed in the same float32 world. Own Cycles renders of contact at 480x270,
+// (1e6 m from the origin, 6.25 cm against 1.9 cm at 480x270), and past a 16th of one
+// (kRefitShare) it tilts the receiver planes the effects take from screen neighbours: there P is
+// refitted (run/positions.h) into a planar depth that every effect then takes, with the camera,
+// for its positions, depth and foreground. Under that share P stays as it is. Own Cycles renders
+// of contact at 480x270,
 // ratio to doing nothing from P as stored / P refitted / Z as stored (isg, pcss, vssm, cssm):
 // 1e6 m from the origin 0.62 / 0.56 / 0.58, 0.82 / 0.57 / 0.77, 0.82 / 0.56 / 0.76, 0.79 / 0.72 /
 // 0.69; the contact case translated by 1e6 (its map exact; at the origin 0.35, 0.23, 0.24, 0.27)
-// 0.48 / 0.35 / 0.35, 0.50 / 0.23 / 0.23, 0.44 / 0.24 / 0.24, 0.56 / 0.27 / 0.27; 1e5 m away (step
-// 0.0078 m, P as stored) pcss 0.26 against 0.37 from Z. Z (input.positions=Z, or an input
-// without P) is refitted the same way where the same step is wider than a pixel (below). Said in
+// 0.48 / 0.35 / 0.35, 0.50 / 0.23 / 0.23, 0.44 / 0.24 / 0.24, 0.56 / 0.27 / 0.27 (before the
+// narrowed searches); 1e5 m away (step 0.0078 m, 0.41 pixel) the same four from P as stored
+// 0.371, 0.249, 0.243, 0.302 and refitted 0.366, 0.249, 0.244, 0.295 (over its whole mask; where
+// Cycles does not self-shadow, positions.h). Z (input.positions=Z, or an input without P) is refitted the same way where the
+// same step is over that share (below). Said in
 // the output's isg:positions (prepare_pixels: the header read here is replaced by the pixels).
 void choose_positions(const JobConfig& job, LoadedFrame& f) {
   f.refit_radius = 0;
@@ -51,7 +54,7 @@ void choose_positions(const JobConfig& job, LoadedFrame& f) {
   const double pixel = job.scene.scene_radius / view.f_px;
   const bool from_z = has_z && (how == "Z" || !has_p);
   std::ostringstream note;
-  if (!(step > pixel)) {
+  if (!(step > kRefitShare * pixel)) {
     if (!from_z || !has_p) return;
     f.roles.found.erase("position");
     note << "Z and the camera (input.positions=Z; P's float32 step " << step << " m, a pixel "
