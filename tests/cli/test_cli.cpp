@@ -336,19 +336,19 @@ TEST(CliSynth, CameraFromTheSynthHeaderMatchesItsSceneFile) {
   }
 }
 
-// 1e6 m from the origin (isg-synth far-world-1e6) P's float32 step is wider than a pixel at a
-// scene radius: `isg info` and `isg run` both take P refitted into a planar depth and say so
-// (info's positions, the output's isg:positions; Z refitted with input.positions=Z), the refit is
-// not an output, and auto then picks the map's pcss for this overhead light; at the origin
-// nothing is refitted.
+// 1e5 and 1e6 m from the origin (isg-synth far-world, far-world-1e6) P's float32 step is wider
+// than a 16th of a pixel at a scene radius (0.14 and 1.1 pixels at 160x90): `isg info` and `isg
+// run` both take P refitted into a planar depth and say so (info's positions, the output's
+// isg:positions; Z refitted with input.positions=Z), the refit is not an output, and auto then
+// picks the map's pcss for this overhead light; at the origin nothing is refitted.
 TEST(CliSynth, FarFromTheOriginPIsRefittedAndSaidSo) {
   auto dir = isg::test::temp_dir("synth_refit");
-  for (const char* scene : {"contact", "far-world-1e6"}) {
+  for (const char* scene : {"contact", "far-world", "far-world-1e6"}) {
     std::string cmd = std::string(ISG_SYNTH_BINARY) + " " + scene + " --out " + q(dir / scene) +
                       " --width 160 --height 90 --no-refs --threads 2 >/dev/null 2>&1";
     ASSERT_EQ(std::system(cmd.c_str()), 0) << cmd;
   }
-  for (const char* scene : {"contact", "far-world-1e6"}) {
+  for (const char* scene : {"contact", "far-world", "far-world-1e6"}) {
     const bool far = std::string(scene) != "contact";
     const fs::path d = dir / scene;
     const std::string args = q(d / "aovs.exr") + " --scene " + q(d / "scene.json");
