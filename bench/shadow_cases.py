@@ -86,7 +86,7 @@ def z_only(t, case):
 
 
 def measure(t, label, case, methods, outs):
-    """Every method from P and from Z; the P outputs of ORIGIN and the far cases stay in `outs`."""
+    """Every method from P and from Z; the outputs of ORIGIN and the far cases stay in `outs`."""
     ref = f"{case}/ref/softshadow_key.exr"
     keep = os.path.join(a.keep, os.path.basename(case)) if a.keep else None
     if keep:
@@ -97,7 +97,7 @@ def measure(t, label, case, methods, outs):
         for m in ["hard"] + methods:
             key = f"{m}-{inp}"
             out = os.path.join(keep, f"{key}.exr") if keep else None
-            if out is None and inp == "P" and (label == ORIGIN or is_far(label)):
+            if out is None and (label == ORIGIN or is_far(label)):
                 out = os.path.join(t.tmp, f"{os.path.basename(case)}-{key}.exr")
             try:
                 # From P: P's positions (input.positions=P: refitted where P's float32 step is
@@ -184,11 +184,15 @@ def far_agreement(t, res, outs, methods):
              "map": map_agreement(t, r["dir"], cases[ORIGIN]["dir"])}
         for m in ["hard"] + methods:
             k = f"{m}-P"
-            if (label, k) in outs and (ORIGIN, k) in outs:
+            if (label, k) in outs and (ORIGIN, k) in outs:  # from P
                 a["rmse"][m] = [compare(t, outs[(label, k)], f_ref, ["key.softshadow"], f"{agree}:A")["rmse"],
                                 compare(t, outs[(ORIGIN, k)], o_ref, ["key.softshadow"], f"{agree}:A")["rmse"]]
-                a["clean"][m] = [compare(t, outs[(label, k)], f_ref, ["key.softshadow"], f"{clean}:A")["rmse"],
-                                 compare(t, outs[(ORIGIN, k)], o_ref, ["key.softshadow"], f"{clean}:A")["rmse"]]
+        for inp in INPUTS:  # from P and from Z ("hard" is the same input either way)
+            for m in ["hard"] + methods:
+                k = f"{m}-{inp}"
+                if (label, k) in outs and (ORIGIN, k) in outs:
+                    a["clean"][k] = [compare(t, outs[(label, k)], f_ref, ["key.softshadow"], f"{clean}:A")["rmse"],
+                                     compare(t, outs[(ORIGIN, k)], o_ref, ["key.softshadow"], f"{clean}:A")["rmse"]]
         out[label] = a
         print(label, "agreement", a, flush=True)
     return out
@@ -220,7 +224,8 @@ def report(res):
          "`key.softshadow` against the reference's `key.softshadow` over its `mask`, divided by the RMSE of doing "
          "nothing (the input's hard `key.shadow`); below 1 is better than doing nothing, **bold** is not. "
          "P: positions from the P channels (`input.positions=P`; refitted into a planar depth where P's float32 "
-         "step is wider than a pixel at a scene radius from the camera, here at 1e6 m from the origin); Z: the "
+         "step is wider than a 16th of a pixel at a scene radius from the camera, here at 1e5 and 1e6 m from the "
+         "origin); Z: the "
          "same AOVs without P, positions formed from Z and the camera. auto P keeps every default, "
          "`input.positions=auto` too (P where the input has it). "
          "Default settings of every method; reflections and depth of field off.", "",
@@ -249,38 +254,43 @@ def report(res):
               f"The far cases' references against the origin's ({ORIGIN}) over the mask, and each method's RMSE "
               f"from P over the pixels where the two references differ by under {AGREE_TOL} (and both masks "
               "hold): at the far case / at the origin, and the change. Doing nothing's RMSE over the whole mask "
-              "is about 0.0435 on all three.", "",
+              "is about 0.0435 on all three. The references' RMSE to each other is what the origin's reference "
+              "itself, the scene's soft shadow where Cycles computes it exactly, scores against the far one; "
+              "in brackets as a ratio to doing nothing's there, the first table's unit.", "",
               "| case | references' RMSE to each other | pixels of the mask where they agree | " +
               " | ".join(["hard"] + methods) + " |", "|---|---|---|" + "---|" * (len(methods) + 1)]
         for n, fa in far.items():
+            hard_far = cases[n]["rmse"].get("hard-P")
             cells = []
             for m in ["hard"] + methods:
                 v = fa["rmse"].get(m)
                 cells.append("-" if not v else f"{v[0]:.5f} / {v[1]:.5f} ({100 * (v[0] / v[1] - 1):+.0f} %)")
-            L.append(f"| {n} | {fa['refs_rmse']:.4f} | {100 * fa['agree_share']:.0f} % | " + " | ".join(cells) + " |")
+            as_output = f" ({fa['refs_rmse'] / hard_far:.2f})" if hard_far else ""
+            L.append(f"| {n} | {fa['refs_rmse']:.4f}{as_output} | {100 * fa['agree_share']:.0f} % | " + " | ".join(cells) + " |")
         clean = {n: fa for n, fa in far.items() if fa.get("clean")}
         if clean:
             L += ["", f"The same, over the pixels of both masks but those where Cycles' far render self-shadows "
                   f"(acne): its origin render lights the pixel (the input's ray-traced `key.shadow` at least {LIT}, "
                   f"the reference at least {LIT_REF}) and its far render's input shadows it (`key.shadow` under "
                   f"{LIT_REF}). There every method keeps the input's ray-traced `key.shadow`, the far render's "
-                  "acne, which its reference has in other places. Per method: RMSE at the far case / at the "
-                  "origin, the change, and the ratio to doing nothing at each.", "",
-                  "| case | pixels of the mask kept | " + " | ".join(["hard"] + methods) + " |",
-                  "|---|---|" + "---|" * (len(methods) + 1)]
+                  "acne, which its reference has in other places. Per method and input: RMSE at the far case / "
+                  "at the origin, the change, and the ratio to doing nothing at each.", "",
+                  "| case | input | pixels of the mask kept | " + " | ".join(["hard"] + methods) + " |",
+                  "|---|---|---|" + "---|" * (len(methods) + 1)]
             for n, fa in clean.items():
-                h = fa["clean"].get("hard")
-                cells = []
-                for m in ["hard"] + methods:
-                    v = fa["clean"].get(m)
-                    if not v:
-                        cells.append("-")
-                        continue
-                    c = f"{v[0]:.5f} / {v[1]:.5f} ({100 * (v[0] / v[1] - 1):+.0f} %)"
-                    if m != "hard" and h and h[0] > 0 and h[1] > 0:
-                        c += f"; {v[0] / h[0]:.2f} / {v[1] / h[1]:.2f}"
-                    cells.append(c)
-                L.append(f"| {n} | {100 * fa['clean_share']:.1f} % | " + " | ".join(cells) + " |")
+                for inp in INPUTS:
+                    h = fa["clean"].get(f"hard-{inp}")
+                    cells = []
+                    for m in ["hard"] + methods:
+                        v = fa["clean"].get(f"{m}-{inp}")
+                        if not v:
+                            cells.append("-")
+                            continue
+                        c = f"{v[0]:.5f} / {v[1]:.5f} ({100 * (v[0] / v[1] - 1):+.0f} %)"
+                        if m != "hard" and h and h[0] > 0 and h[1] > 0:
+                            c += f"; {v[0] / h[0]:.2f} / {v[1] / h[1]:.2f}"
+                        cells.append(c)
+                    L.append(f"| {n} | {inp} | {100 * fa['clean_share']:.1f} % | " + " | ".join(cells) + " |")
         maps = {n: fa["map"] for n, fa in far.items() if fa.get("map")}
         if maps:
             L += ["", "The same scene's key shadow map as Cycles renders it there, against the origin's (texels "
