@@ -36,9 +36,9 @@ namespace {
 // 0.48 / 0.35 / 0.35, 0.50 / 0.23 / 0.23, 0.44 / 0.24 / 0.24, 0.56 / 0.27 / 0.27 (before the
 // narrowed searches); 1e5 m away (step 0.0078 m, 0.41 pixel) the same four from P as stored
 // 0.371, 0.249, 0.243, 0.302 and refitted 0.366, 0.249, 0.244, 0.295 (over its whole mask; where
-// Cycles does not self-shadow, positions.h). Z (input.positions=Z, or an input without P) is refitted the same way where the
-// same step is over that share (below). Said in
-// the output's isg:positions (prepare_pixels: the header read here is replaced by the pixels).
+// Cycles does not self-shadow, positions.h). Z (input.positions=Z, or an input without P) is
+// refitted the same way where the same step is over that share (below). Said in the output's
+// isg:positions (prepare_pixels: the header read here is replaced by the pixels).
 void choose_positions(const JobConfig& job, LoadedFrame& f) {
   f.refit_radius = 0;
   f.refit_position.reset();

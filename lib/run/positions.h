@@ -36,10 +36,10 @@ PlanarDepth planar_depth_of_z(const effects::PinholeView& view, size_t i, int w,
 // +14.1 -> -0.4 %; at 480x270 (0.41 pixel) +0.1 -> +0.3, +2.4 -> +0.3, +1.8 -> +0.3, +1.1 ->
 // -0.2 %. The Cycles render of contact 1e5 m away (0.41 pixel), ratio to doing nothing over the
 // pixels where Cycles does not self-shadow there (bench/shadow_cases.py), P as stored ->
-// refitted: isg 0.35 -> 0.34, pcss 0.21 -> 0.21, vssm 0.21 -> 0.21, cssm 0.27 -> 0.26 (0.24 at the
-// origin). The refit was taken only past a whole pixel before. Below 1/16 every method kept its
-// error within 5 % without it, and the refit costs about 0.24 us a pixel on 2 cores (0.49 s at
-// 1920x1080).
+// refitted: isg 0.349 -> 0.343, pcss 0.211 -> 0.212, vssm 0.205 -> 0.206, cssm 0.271 -> 0.258
+// (0.353, 0.209, 0.200, 0.237 at the origin). The refit was taken only past a whole pixel
+// before. Just over 1/16 (0.069 pixel) every method kept its error within 5 % without it; the
+// refit costs about 0.24 us a pixel on 2 cores (0.49 s at 1920x1080).
 inline constexpr double kRefitShare = 1.0 / 16.0;
 
 // The refit's window radius (pixels) for P's step and a pixel's size at a scene radius: two

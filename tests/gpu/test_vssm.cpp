@@ -316,9 +316,9 @@ TEST_F(Vssm, MapMethodsKeepTheirErrorFarFromTheOrigin) {
 // step (7.8 mm, 62.5 mm) is over a 16th of a pixel at a scene radius (0.14 and 1.1 pixels of
 // 57 mm at 160x90): P is refitted into a planar depth (lib/run/positions.h), said in
 // isg:positions, and every method keeps its error from P within 3 %. P as stored (the refit taken
-// only past a whole pixel, as before issue 19's kRefitShare): 1e5 away isg -0.3 %, pcss +0.5 %,
-// vssm +0.5 %, cssm +5.1 %; 1e6 away isg +13 %, pcss +48 %, vssm +46 %, cssm +68 % (64
-// reference samples, before the narrowed searches).
+// only past a whole pixel): 1e5 away isg -0.3 %, pcss +0.5 %, vssm +0.5 %, cssm +5.1 %; 1e6 away
+// isg +13 %, pcss +48 %, vssm +46 %, cssm +68 % (64 reference samples, before the narrowed
+// searches).
 TEST_F(Vssm, EveryMethodKeepsItsErrorFromPRefittedFarFromTheOrigin) {
   const auto near = isg::test::synth_case({"contact", 160, 90, 16, 1, 512}, "refit-near");
   const std::pair<const char*, std::filesystem::path> fars[] = {
