@@ -179,11 +179,17 @@ bool sm_reaches(vec3 q, vec2 c, float zm, float kr) {
   vec2 o = c - q.xy;
   return dot(o, o) <= r * r;
 }
-// The narrowed blocker search's box (vssm's and cssm's, issue 19): the half-width, in texels, of
-// the square of the area of the light's cone from the receiver (depth qz) at map depth z, widened
-// `margin` times, within shadows.smap_max_radius, at least a texel wide. k as sm_reaches's.
+// The radius, in texels, of the light's cone from the receiver (depth qz) at map depth z, widened
+// `margin` times, within shadows.smap_max_radius; k as sm_reaches's. The first blocker search's
+// region is the cone at the map's nearest depth (PCSS), a narrowed one's at the mean blocker
+// depth (issue 19).
+float sm_cone_radius(float k, float z, float qz, float margin) {
+  return min(margin * k * max(1.0 / z - 1.0 / qz, 0.0), p.max_radius);
+}
+// The narrowed blocker search's box (vssm's and cssm's): the half-width of the square of the
+// cone's area, at least a texel wide.
 float sm_cone_box(float k, float z, float qz, float margin) {
-  return max(0.886226925 * min(margin * k * max(1.0 / z - 1.0 / qz, 0.0), p.max_radius), 0.5);
+  return max(0.886226925 * sm_cone_radius(k, z, qz, margin), 0.5);
 }
 float sm_fetch(vec2 c) {
   return sm_map(uint(c.y) * p.map_w + uint(c.x));

@@ -200,7 +200,7 @@ void main() {
   vec2 cc = floor(q.xy) + 0.5;
   float d = clamp((sm_threshold(q, g, cc, texel_world) - c.zmin) / c.zrange, 0.0, 1.0);
   // Blocker search (Fig. 5.1a): PCSS's disk as a box of the same area, at least one texel.
-  float rs = min(k * max(1.0 / p.min_depth - 1.0 / q.z, 0.0), p.max_radius);
+  float rs = sm_cone_radius(k, p.min_depth, q.z, 1.0);
   float hs = max(0.886226925 * rs, 0.5);
   float s_f = cssm_filtered(q, g, texel_world, hs, d, false);
   if (cssm_suppress(s_f) >= 1.0 || 1.0 - s_f < 1e-3) {

@@ -63,12 +63,12 @@ void main() {
   float a = 0.0;
   if (p.rotate != 0u) a = isg_pixel_angle(px + uvec2(p.origin & 0xffffu, p.origin >> 16));
   mat2 rot = mat2(cos(a), sin(a), -sin(a), cos(a));
-  float rs = min(k * max(1.0 / p.min_depth - 1.0 / q.z, 0.0), p.max_radius);
+  float rs = sm_cone_radius(k, p.min_depth, q.z, 1.0);
   float db;
   bool found = pcss_search(q, g, texel_world, rot, rs, db);
   // Narrowed to the blockers' cone, while it shrinks (the top of the file).
   for (uint pass = 0u; found && pass < p.pcss_narrow; ++pass) {
-    float rn = min(PCSS_NARROW_MARGIN * k * max(1.0 / db - 1.0 / q.z, 0.0), p.max_radius);
+    float rn = sm_cone_radius(k, db, q.z, PCSS_NARROW_MARGIN);
     if (rn >= rs) break;
     found = pcss_search(q, g, texel_world, rot, rn, db);
     rs = rn;

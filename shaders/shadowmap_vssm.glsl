@@ -264,7 +264,7 @@ void main() {
   q.z = min(q.z, v.far_z);
   float tw = 2.0 * q.z * p.tan_y / float(p.map_h);
   float k = p.light_radius * float(p.map_h) / (2.0 * p.tan_y);
-  float rs = min(k * max(1.0 / p.min_depth - 1.0 / q.z, 0.0), p.max_radius);
+  float rs = sm_cone_radius(k, p.min_depth, q.z, 1.0);
   vec2 a, b;
   square(q, rs, a, b);
   // HSM (Algorithm 2, L8-L10): bounds of the receiver's threshold over the kernel.

@@ -76,6 +76,7 @@
 namespace isg::effects {
 
 using detail::Geom;
+using detail::kBoxOfDisk;
 using detail::kPi;
 using detail::Plane;
 using detail::Shaded;
@@ -84,7 +85,6 @@ using detail::V3;
 
 namespace {
 
-constexpr double kBoxOfDisk = 0.886226925452758;  // √π / 2: a square of the disk's area
 constexpr double kMinHalfWidth = 0.5;             // texels: the box covers at least one texel
 constexpr double kMinBlockers = 1e-3;             // 1 − s_f below it: no blockers (eq. 5.8)
 
@@ -355,7 +355,7 @@ std::vector<float> cssm_reference(const ShadowmapInputs& in, const ShadowmapData
     };
     auto visibility = [&](double h) { return filtered(h, false); };
     // Blocker search (Fig. 5.1a): the PCSS region as a box of the same area.
-    const double rs = std::min(k * std::max(1.0 / map.min_depth - 1.0 / q[2], 0.0), s.max_radius);
+    const double rs = Geom::cone_radius(k, map.min_depth, q[2], 1.0, s.max_radius);
     double hs = std::max(kBoxOfDisk * rs, kMinHalfWidth);
     const double sf = visibility(hs);
     if (suppress(u, sf) >= 1.0 || 1.0 - sf < kMinBlockers) {

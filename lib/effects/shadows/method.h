@@ -15,6 +15,7 @@
 
 namespace isg::effects::detail {
 constexpr double kPi = 3.14159265358979323846;
+constexpr double kBoxOfDisk = 0.886226925452758;  // √π / 2: a square of the disk's area
 using V2 = std::array<double, 2>;
 using V3 = std::array<double, 3>;
 // A receiver plane: d(1/z)/du, d(1/z)/dv, the depth spread (bias), the slope bound (texel
@@ -167,11 +168,15 @@ struct Geom {
     const double ox = cx - q[0], oy = cy - q[1];
     return ox * ox + oy * oy <= r * r;
   }
-  // The narrowed blocker search's box (shadowmap_common.h's sm_cone_box): the half-width of the
-  // square of the area of the light's cone at map depth z, widened margin times, in
-  // [0.5, max_radius · √π/2].
+  // The radius of the light's cone from the receiver (depth qz) at map depth z, widened margin
+  // times, within max_radius (shadowmap_common.h's sm_cone_radius).
+  static double cone_radius(double k, double z, double qz, double margin, double max_radius) {
+    return std::min(margin * k * std::max(1.0 / z - 1.0 / qz, 0.0), max_radius);
+  }
+  // The narrowed blocker search's box (sm_cone_box): the half-width of the square of the cone's
+  // area, at least a texel wide.
   static double cone_box(double k, double z, double qz, double margin, double max_radius) {
-    return std::max(0.886226925452758 * std::min(margin * k * std::max(1.0 / z - 1.0 / qz, 0.0), max_radius), 0.5);
+    return std::max(kBoxOfDisk * cone_radius(k, z, qz, margin, max_radius), 0.5);
   }
   // Bounds of threshold() over the box [lo, hi): 1/z is linear in (u, v), so the plane's depth
   // is extreme at the corners; its clamp to q.z ± g[3]·tw·|o| is bounded by the farthest corner.

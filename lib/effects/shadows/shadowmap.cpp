@@ -96,12 +96,12 @@ std::vector<float> pcss_reference(const ShadowmapInputs& in, const ShadowmapData
           db = cnt > 0 ? sum / double(cnt) : 0.0;
           return cnt > 0;
         };
-        double rs = std::min(k * std::max(1.0 / map.min_depth - 1.0 / q[2], 0.0), s.max_radius);
+        double rs = Geom::cone_radius(k, map.min_depth, q[2], 1.0, s.max_radius);
         double db = 0;
         bool found = search(rs, db);
         // Narrowed to the blockers' cone, while it shrinks (shadowmap_pcss.comp).
         for (int pass = 0; found && pass < s.pcss_narrow; ++pass) {
-          const double rn = std::min(PCSS_NARROW_MARGIN * k * std::max(1.0 / db - 1.0 / q[2], 0.0), s.max_radius);
+          const double rn = Geom::cone_radius(k, db, q[2], PCSS_NARROW_MARGIN, s.max_radius);
           if (rn >= rs) break;
           found = search(rn, db);
           rs = rn;

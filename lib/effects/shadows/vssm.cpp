@@ -18,6 +18,7 @@ namespace isg::effects {
 
 namespace {
 using detail::Geom;
+using detail::kBoxOfDisk;
 using detail::Plane;
 using detail::Shaded;
 using detail::V3;
@@ -257,7 +258,7 @@ struct VssmRef {
     const double k = s.light_radius * G.map.height / (2.0 * G.tan_y);
     (void)px;
     (void)py;
-    const double rs = std::min(k * std::max(1.0 / G.map.min_depth - 1.0 / q[2], 0.0), s.max_radius);
+    const double rs = Geom::cone_radius(k, G.map.min_depth, q[2], 1.0, s.max_radius);
     F2 a, b;
     square(q, rs, a, b);
     const double lim = g[3] * tw * (rs + 1.0) * 1.5;
@@ -280,7 +281,7 @@ struct VssmRef {
     if (!found) { ++st.skipped; return {1.0, 0.0}; }
     double rf = k * std::max(1.0 / zavg - 1.0 / q[2], 0.0);
     if (rf > s.max_radius) { rf = s.max_radius; ++st.clamped; }
-    square(q, 0.886226925452758 * rf, a, b);
+    square(q, kBoxOfDisk * rf, a, b);
     if (q[2] - zavg < contact) {
       ++st.contact;
       double nb, zb;
