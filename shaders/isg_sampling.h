@@ -30,14 +30,15 @@ vec2 isg_concentric(uint k, uint grid) {
 // quads x quads grid of 2×2 quads, quad q standing at its top-left pixel 2q (clamped at the
 // border): q0 the lower corner, a the bilinear fractions; corner k (bit 0: +x, bit 1: +y) weighs
 // isg_quad_weight(a, k). lib/effects/sampling.h's quad_bilinear mirrors it.
-// isg_cell_bilinear: the same over cells of step x step pixels (reflections' 4x4 blocks).
-void isg_cell_bilinear(uvec2 l, uint cells, float step, out uvec2 q0, out vec2 a) {
+// isg_cell_bilinear: the same over a grid of cells.x x cells.y cells of step x step pixels
+// (reflections' 4x4 blocks over the whole image); a grid one cell wide keeps q0 at 0.
+void isg_cell_bilinear(uvec2 l, uvec2 cells, float step, out uvec2 q0, out vec2 a) {
   vec2 f = vec2(l) / step;
-  vec2 c = clamp(floor(f), vec2(0.0), vec2(float(cells - 2u)));
+  vec2 c = clamp(floor(f), vec2(0.0), vec2(max(ivec2(cells) - 2, ivec2(0))));
   q0 = uvec2(c);
   a = clamp(f - c, vec2(0.0), vec2(1.0));
 }
-void isg_quad_bilinear(uvec2 l, uint quads, out uvec2 q0, out vec2 a) { isg_cell_bilinear(l, quads, 2.0, q0, a); }
+void isg_quad_bilinear(uvec2 l, uint quads, out uvec2 q0, out vec2 a) { isg_cell_bilinear(l, uvec2(quads), 2.0, q0, a); }
 float isg_quad_weight(vec2 a, uint k) {
   return ((k & 1u) != 0u ? a.x : 1.0 - a.x) * ((k >> 1u) != 0u ? a.y : 1.0 - a.y);
 }

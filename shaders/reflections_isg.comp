@@ -48,8 +48,8 @@ void main() {
     g = inside && (mask & (1u << ((l.x & 1u) + 2u * (l.y & 1u)))) != 0u;
     if (g) {
       uvec2 rp = quad_rep(wg, q, mask);
-      c = refl_isg(p, l, i, rp.y * pc.width + rp.x, uintBitsToFloat(tiles[at + 1u]), nt, tile,
-                   false, rest, searched, gathered);
+      c = refl_isg(p, i, rp.y * pc.width + rp.x, uintBitsToFloat(tiles[at + 1u]), nt, false, rest,
+                   searched, gathered);
     }
     // A pixel that searches or gathers for itself joins reflections.isg.own's list.
     if (rest) {

@@ -19,8 +19,8 @@ void main() {
   uvec2 rp = quad_rep(wg, q, tiles[at]);
   uint searched = 0u, gathered = 0u;
   bool rest;
-  vec3 c = refl_isg(p, l, i, rp.y * pc.width + rp.x, uintBitsToFloat(tiles[at + 1u]), nt, tile,
-                    true, rest, searched, gathered);
+  vec3 c = refl_isg(p, i, rp.y * pc.width + rp.x, uintBitsToFloat(tiles[at + 1u]), nt, true, rest,
+                    searched, gathered);
   // Statistics: few lanes, from tiles anywhere in the image.
   if (searched != 0u) atomicAdd(tiles[tile], REFL_STATS_SEARCHES);
   if (gathered != 0u) atomicAdd(tiles[nt + tile], 1u);

@@ -57,12 +57,15 @@ struct QuadBilinear {
   double ax, ay;
   double weight(int k) const { return ((k & 1) ? ax : 1.0 - ax) * ((k >> 1) ? ay : 1.0 - ay); }
 };
-// `step`: cells of step x step pixels (reflections' 4x4 blocks: 4).
-inline QuadBilinear quad_bilinear(int lx, int ly, int quads, int step = 2) {
+// cell_bilinear: the same over a grid of cells_x x cells_y cells of step x step pixels
+// (reflections' 4x4 blocks over the whole image; isg_cell_bilinear); a grid one cell wide keeps
+// the corner at 0.
+inline QuadBilinear cell_bilinear(int lx, int ly, int cells_x, int cells_y, int step) {
   const double fx = lx / double(step), fy = ly / double(step);
-  const double q0x = std::clamp(std::floor(fx), 0.0, double(quads - 2));
-  const double q0y = std::clamp(std::floor(fy), 0.0, double(quads - 2));
+  const double q0x = std::clamp(std::floor(fx), 0.0, double(std::max(cells_x - 2, 0)));
+  const double q0y = std::clamp(std::floor(fy), 0.0, double(std::max(cells_y - 2, 0)));
   return {int(q0x), int(q0y), std::clamp(fx - q0x, 0.0, 1.0), std::clamp(fy - q0y, 0.0, 1.0)};
 }
+inline QuadBilinear quad_bilinear(int lx, int ly, int quads) { return cell_bilinear(lx, ly, quads, quads, 2); }
 
 }  // namespace isg::effects

@@ -266,16 +266,15 @@ struct Ctx {
     }
     return Q;
   }
-  // A wide lobe's mean, bilinear from the blocks' gathers around the pixel in its tile's block
-  // grid (those on its surface whose footprint is within REFL_REUSE_RATIO of its own); false
-  // where they hold under REFL_REUSE_COVER of the bilinear weight.
+  // A wide lobe's mean, bilinear from the blocks' gathers around the pixel in the image's block
+  // grid, across tile borders (those on its surface whose footprint is within REFL_REUSE_RATIO
+  // of its own); false where they hold under REFL_REUSE_COVER of the bilinear weight.
   bool reuse(int x, int y, const Lobe& L, double R_s, std::vector<Quad>& quads, V3& m) const {
-    const int lx = x % REFL_TILE, ly = y % REFL_TILE;
-    const QuadBilinear b = quad_bilinear(lx, ly, REFL_TILE / 4, 4);
+    const QuadBilinear b = cell_bilinear(x, y, (in.w + 3) / 4, (in.h + 3) / 4, 4);
     V3 sum{};
     double ws = 0.0;
     for (int k = 0; k < 4; ++k) {
-      const int qx = (x - lx) / 2 + 2 * (b.qx + (k & 1)), qy = (y - ly) / 2 + 2 * (b.qy + (k >> 1));
+      const int qx = 2 * (b.qx + (k & 1)), qy = 2 * (b.qy + (k >> 1));
       const double w = b.weight(k);
       if (w <= 0.0 || 2 * qx >= in.w || 2 * qy >= in.h) continue;
       const Quad& Q = quad(qx, qy, quads);
