@@ -27,6 +27,7 @@ layout(push_constant) uniform Push { ReflIsgPush pc; };
 // Settings that choose code paths (reflections_isg_io.h): compiled in, not branched on.
 layout(constant_id = 0) const uint REFL_FLAGS = 0u;
 layout(constant_id = 1) const uint REFL_MODE = REFL_MODE_ISG;
+#include "reflections_range.h"  // range_fn, eq. 10-12
 
 float roughness_at(uint i) { return (REFL_FLAGS & REFL_HAS_ROUGHNESS) != 0u ? texelFetch(rough, int(i)).r : pc.roughness; }
 // A pixel holds reflection data to gather from: foreground with a non-zero weight.
@@ -55,14 +56,6 @@ uint tap(vec2 q) {
 uint tap_coarse(vec2 q) {
   uvec2 c = uvec2(tap_xy(q)) / REFL_COARSE;
   return REFL_COARSE_AT(pc.width, pc.height, c.x, c.y);
-}
-
-// Eq. 10-12: r = exp(-(a·l² + b·n²)/σ), l = |w(p_i) − w(p_0)| / scene_radius, n = 1 − N_i·N_0.
-float range_fn(uvec4 g, vec3 P0, vec3 N0) {
-  vec3 d = uintBitsToFloat(g.xyz) - P0;
-  float l2 = dot(d, d) * (pc.inv_scene_radius * pc.inv_scene_radius);
-  float nn = 1.0 - dot(isg_oct_decode(g.w), N0);
-  return exp(-(pc.a * l2 + pc.b * nn * nn) * pc.inv_sigma);
 }
 
 mat2 pixel_rotation(uvec2 p) {  // the same for the REFL_ROTATION_BLOCK² pixels of a block

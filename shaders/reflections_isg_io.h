@@ -50,8 +50,9 @@ ISG_IO_BEGIN
 // rounded up to 16 texels, 256 bytes: reflections.pack binds the cells as a storage range of
 // their own, so each range stays within the device's storage-buffer range, llvmpipe's 128 MiB
 // holding a 3840×2160 frame's w·h texels but not w·h·17/16), one texel per REFL_COARSE² cell
-// (cells aligned to the image, ceil(w / REFL_COARSE) a row): a copy of the texels of the cell's
-// pixel min(REFL_COARSE·c + REFL_COARSE_PICK, last). A parameter search whose radius R_p is at
+// (cells aligned to the image, ceil(w / REFL_COARSE) a row): the geometry and distance of the
+// cell's pixel min(REFL_COARSE·c + REFL_COARSE_PICK, last), and the cell's refl prefiltered
+// around it (reflections_cells.comp). A parameter search whose radius R_p is at
 // least REFL_COARSE_RADIUS pixels (lattice points ≥ 2·R_p / grid apart, 13 pixels for 5×5) taps
 // the cells: the point a tap lands on moves by up to REFL_COARSE_PICK + 1 pixels, and the texels
 // it reads, sixteen times fewer, stay in cache (search radii reach reflections.max_radius, 256

@@ -7,6 +7,7 @@
 
 #include "effects/sampling.h"
 #include "effects/view.h"
+#include "isg/shaders/reflections_cells.spv.h"
 #include "isg/shaders/reflections_isg.spv.h"
 #include "isg/shaders/reflections_isg_search.spv.h"
 #include "isg/shaders/reflections_isg_wide.spv.h"
@@ -89,6 +90,39 @@ struct Ctx {
     double l = len3(sub(position(j), P0)) / s.scene_radius;
     double nn = 1.0 - dot3(normal(j), N0);
     return std::exp(-(s.a * l * l + s.b * nn * nn) / s.sigma);
+  }
+  // The coarse cells' colours (reflections.pack's cell_mean), cell-major: refl averaged over the
+  // cell's pixels that hold reflection data, each weighed by its range weight to the pixel the
+  // cell keeps (tap_coarse's); that pixel's own refl where it holds none.
+  std::vector<V3> cells;
+  int cells_x() const { return (in.w + int(REFL_COARSE) - 1) / int(REFL_COARSE); }
+  void make_cells() {
+    const int C = int(REFL_COARSE), cy_n = (in.h + C - 1) / C;
+    cells.assign(size_t(cells_x()) * cy_n, V3{});
+    for (int cy = 0; cy < cy_n; ++cy)
+      for (int cx = 0; cx < cells_x(); ++cx) {
+        const size_t k = tap_coarse({cx * C + 0.5, cy * C + 0.5});
+        V3& m = cells[size_t(cy) * cells_x() + cx];
+        m = rgb(in.refl, k);
+        if (!has_refl(k)) continue;
+        const V3 P0 = position(k), N0 = normal(k);
+        V3 sum{};
+        double ws = 0;
+        for (int y = cy * C; y < std::min(in.h, (cy + 1) * C); ++y)
+          for (int x = cx * C; x < std::min(in.w, (cx + 1) * C); ++x) {
+            const size_t j = size_t(y) * in.w + x;
+            if (!has_refl(j)) continue;
+            const double w = range(j, P0, N0);
+            const V3 r = rgb(in.refl, j);
+            for (int c3 = 0; c3 < 3; ++c3) sum[c3] += w * r[c3];
+            ws += w;
+          }
+        m = {sum[0] / ws, sum[1] / ws, sum[2] / ws};
+      }
+  }
+  // refl as a coarse tap reads it: the colour of the cell of pixel t (a tap_coarse pixel).
+  V3 cell_refl(size_t t) const {
+    return cells[(t / in.w) / REFL_COARSE * cells_x() + (t % in.w) / REFL_COARSE];
   }
   double angle(int x, int y) const {
     return pixel_angle(uint32_t(x) / REFL_ROTATION_BLOCK, uint32_t(y) / REFL_ROTATION_BLOCK);
@@ -210,10 +244,11 @@ struct Ctx {
       const double f = rho_u > 0 ? F.k_px * std::tan(2.0 * th) / rho_u : 0.0;
       const V2 q = L.at(c, f);
       const double wd = 1.0 / std::cos(th);
-      const size_t t = f * rho_u >= REFL_COARSE_GATHER ? tap_coarse(q) : tap(q);
+      const bool far = f * rho_u >= REFL_COARSE_GATHER;
+      const size_t t = far ? tap_coarse(q) : tap(q);
       if (!has_refl(t)) continue;
       double w = wd * range(t, L.P0, L.N0);
-      V3 r = rgb(in.refl, t);
+      V3 r = far ? cell_refl(t) : rgb(in.refl, t);
       for (int c3 = 0; c3 < 3; ++c3) sum[c3] += w * r[c3];
       ws += w;
     }
@@ -312,6 +347,7 @@ std::vector<float> reflections_reference(const ReflInputs& in, const ReflSetting
   const size_t n = size_t(in.w) * in.h;
   ReflTileStats st;
   Ctx c{in, s, n, &st.searches, &st.gathers};
+  if (s.method == "isg") c.make_cells();
   std::vector<float> out(in.refl.begin(), in.refl.begin() + 3 * n);
   const int tx = (in.w + REFL_TILE - 1) / REFL_TILE, ty = (in.h + REFL_TILE - 1) / REFL_TILE;
   if (tiles) tiles->assign(size_t(tx) * ty, 0.0f);
@@ -369,6 +405,9 @@ ReflectionsPass::ReflectionsPass(gpu::Context& ctx, const ReflSettings& s)
              gpu::Slot::buffer, gpu::Slot::buffer},
             sizeof(shaders::ReflIsgPush),
             REFL_PACK_LOCAL, 1),
+      cells_(ctx, "reflections.pack.cells", isg_spv_reflections_cells,
+             {gpu::Slot::texels, gpu::Slot::texels, gpu::Slot::buffer}, sizeof(shaders::ReflIsgPush),
+             REFL_PACK_LOCAL, 1),
       list_(ctx, "reflections.list", isg_spv_reflections_list,
             {gpu::Slot::texels, gpu::Slot::texels, gpu::Slot::buffer}, sizeof(shaders::ReflIsgPush),
             REFL_LIST_LOCAL, 1),
@@ -436,6 +475,13 @@ void ReflectionsPass::record_pack(gpu::Sequence& seq, const ReflBuffers& b, uint
                 gpu::Binding::part(b.pack_geo, 0, pixels), gpu::Binding::part(b.pack_color, 0, pixels),
                 gpu::Binding::part(b.pack_geo, cells, 0), gpu::Binding::part(b.pack_color, cells, 0)},
                pc, w, h, label);
+  // Method isg's far gather taps read the cells' colours, prefiltered (reflections_cells.comp).
+  if (s_.method == "isg")
+    seq.dispatch(cells_.at({}),
+                 {gpu::Binding::texels(b.pack_geo, VK_FORMAT_R32G32B32A32_UINT),
+                  gpu::Binding::float4s(b.pack_color), gpu::Binding::part(b.pack_color, cells, 0)},
+                 pc, (w + REFL_COARSE - 1) / REFL_COARSE, (h + REFL_COARSE - 1) / REFL_COARSE,
+                 label + ".cells");
 }
 
 void ReflectionsPass::record_gather(gpu::Sequence& seq, const ReflBuffers& b, uint32_t w,

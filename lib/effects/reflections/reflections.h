@@ -74,7 +74,7 @@ class ReflectionsPass {
   shaders::ReflIsgPush push(uint32_t w, uint32_t h) const;
   uint32_t flags(bool has_position, bool has_rough) const;  // specialization constant 0
   ReflSettings s_;
-  gpu::KernelVariants pack_, list_, search_, wide_, kernel_, own_;
+  gpu::KernelVariants pack_, cells_, list_, search_, wide_, kernel_, own_;
   std::unique_ptr<gpu::Buffer> samples_;  // the lattice table (sample_table)
 };
 
