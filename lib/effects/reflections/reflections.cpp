@@ -91,7 +91,7 @@ struct Ctx {
     double nn = 1.0 - dot3(normal(j), N0);
     return std::exp(-(s.a * l * l + s.b * nn * nn) / s.sigma);
   }
-  // The coarse cells' colours (reflections.pack's cell_mean), cell-major: refl averaged over the
+  // The coarse cells' colours (reflections.pack.cells), cell-major: refl averaged over the
   // cell's pixels that hold reflection data, each weighed by its range weight to the pixel the
   // cell keeps (tap_coarse's); that pixel's own refl where it holds none.
   std::vector<V3> cells;
