@@ -224,9 +224,9 @@ uint block_quad(uint b) { return 2u * (b / REFL_BLOCKS) * REFL_QUADS + 2u * (b %
 // blocks, across tile borders (a blend within each tile alone steps at every tile border, 16
 // pixels apart: shared gloss +7 % at 49×49 samples), from those on its surface (eq. 10 range
 // weight ≥ REFL_QUAD_SAME to the block's representative) whose footprint is within a factor
-// REFL_REUSE_RATIO of its own. A tile reflections.list left out (REFL_TILE_CHEAP) has nothing
-// glossy, so no gathers. False where they hold under REFL_REUSE_COVER of the bilinear weight:
-// the pixel gathers for itself.
+// REFL_REUSE_RATIO of its own (a tile reflections.list left out has records without a gather).
+// False where they hold under REFL_REUSE_COVER of the bilinear weight: the pixel gathers for
+// itself.
 bool reuse(Lobe L, float R_s, uint nt, uvec2 p, out vec3 m) {
   uint tiles_x = (pc.width + REFL_TILE - 1u) / REFL_TILE;
   uvec2 cells = (uvec2(pc.width, pc.height) + 3u) / 4u;
@@ -240,7 +240,6 @@ bool reuse(Lobe L, float R_s, uint nt, uvec2 p, out vec3 m) {
     float w = isg_quad_weight(a, k);
     if (w <= 0.0 || c.x >= cells.x || c.y >= cells.y) continue;
     uint tile = (c.y / REFL_BLOCKS) * tiles_x + c.x / REFL_BLOCKS;
-    if (tiles[tile] == REFL_TILE_CHEAP) continue;
     int bt = int(block_at(nt, tile, (c.y % REFL_BLOCKS) * REFL_BLOCKS + c.x % REFL_BLOCKS));
     vec4 r = uintBitsToFloat(texelFetch(records, bt));
     if (r.w < 0.0 || r.w * REFL_REUSE_RATIO < R_s || R_s * REFL_REUSE_RATIO < r.w) continue;

@@ -2,7 +2,9 @@
 // Pass reflections.list: the tiles reflections.isg runs on, those with a glossy pixel (issue 18:
 // on lavapipe a workgroup of reflections.isg costs about as much to start and classify itself as
 // a cheap tile's work). One lane per tile; a tile left out is marked cheap (REFL_TILE_CHEAP) and
-// keeps refl, copied into refl.glossy before. No output depends on the list's order.
+// keeps refl, copied into refl.glossy before, and (method isg) block records that hold no wide
+// gather, which the pixels of the tiles around it read (reflections_isg.h's reuse). No output
+// depends on the list's order.
 #extension GL_GOOGLE_include_directive : require
 #include "reflections_isg_io.h"
 layout(local_size_x = REFL_LIST_LOCAL) in;
@@ -12,6 +14,7 @@ layout(std430, binding = 2) buffer Tiles { uint tiles[]; };
 layout(push_constant) uniform Push { ReflIsgPush pc; };
 // Settings that choose code paths (REFL_HAS_*): compiled in, not branched on.
 layout(constant_id = 0) const uint REFL_FLAGS = 0u;
+layout(constant_id = 1) const uint REFL_MODE = REFL_MODE_ISG;
 
 void main() {
   uint tiles_x = (pc.width + REFL_TILE - 1u) / REFL_TILE;
@@ -35,5 +38,9 @@ void main() {
   } else {
     tiles[t] = REFL_TILE_CHEAP;
     tiles[nt + t] = 0u;
+    // Its blocks' records (mean, R_s; geometry): R_s < 0, no wide gather to blend.
+    if (REFL_MODE == REFL_MODE_ISG)
+      for (uint b = 0u; b < REFL_BLOCKS * REFL_BLOCKS; ++b)
+        tiles[REFL_AT_BLOCKS(nt) + 8u * (t * REFL_BLOCKS * REFL_BLOCKS + b) + 3u] = floatBitsToUint(-1.0);
   }
 }

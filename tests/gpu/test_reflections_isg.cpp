@@ -353,7 +353,8 @@ TEST_F(GpuTest, ReflectionsWideLobesReuseTheQuadsGathers) {
     if (variant == 1) object_reflects(in);
     // Variant 2: a column of tiles with nothing glossy (background) between glossy ones, after
     // a frame where it was glossy: the blocks beside it blend across the other tile borders and
-    // skip its blocks, whose records in refl.tiles are that frame's.
+    // skip its blocks, whose records in refl.tiles held that frame's gathers until
+    // reflections.list marked them empty.
     const fx::ReflInputs before = in;
     if (variant == 2)
       for (int y = 0; y < h; ++y)

@@ -494,14 +494,16 @@ void ReflectionsPass::record_gather(gpu::Sequence& seq, const ReflBuffers& b, ui
   // list fills (the statistics of the tiles left out it writes itself); the others keep refl.
   const uint32_t tx = (w + REFL_TILE - 1) / REFL_TILE, nt = refl_tiles(w, h);
   // The statistics (zero: the dispatches add to them) and the list's header; the records are
-  // written before they are read.
+  // written before they are read (the blocks of the tiles left out by reflections.list).
   std::vector<uint32_t> init(refl_tiles_words(w, h, false), 0u);
   init[REFL_AT_ARGS(nt)] = tx;
   init[REFL_AT_ARGS(nt) + 2] = 1u;
   init[REFL_AT_OWN_ARGS(nt)] = REFL_OWN_ROW;
   init[REFL_AT_OWN_ARGS(nt) + 2] = 1u;
   b.tiles.upload(std::span<const uint32_t>(init));
-  seq.dispatch(list_.at({has_rough ? REFL_HAS_ROUGHNESS : 0u}),
+  const auto names = dispatches(s_, label);  // empty for method blur
+  const bool isg = !names.empty();
+  seq.dispatch(list_.at({has_rough ? REFL_HAS_ROUGHNESS : 0u, isg ? REFL_MODE_ISG : REFL_MODE_BLUR}),
                {gpu::Binding::float4s(b.pack_color), gpu::Binding::floats(rb),
                 gpu::Binding::of(b.tiles)},
                pc, nt, 1, label + ".list");
@@ -515,8 +517,6 @@ void ReflectionsPass::record_gather(gpu::Sequence& seq, const ReflBuffers& b, ui
       gpu::Binding::of(b.tiles), gpu::Binding::texels(b.tiles, VK_FORMAT_R32G32B32A32_UINT)};
   const uint64_t args = uint64_t(REFL_AT_ARGS(nt)) * 4;
   const uint32_t fl = flags(b.has_position, has_rough);
-  const auto names = dispatches(s_, label);  // empty for method blur
-  const bool isg = !names.empty();
   if (isg) {
     seq.dispatch_indirect(search_.at({fl}), bind, pc, b.tiles, args, names[0]);
     seq.dispatch_indirect(wide_.at({fl}), bind, pc, b.tiles, args, names[1]);
