@@ -77,9 +77,9 @@ ISG_IO_BEGIN
 // (REFL_OWN_ROW by the rows its list fills) and the number of pixels on that list. Then, for
 // method isg, the records of the listed tiles' quads, two words each: the glossy mask of its four
 // pixels (bit k at (k & 1, k >> 1)) and its representative's t̄ (float bits), REFL_QUADS² a tile;
-// then, from a 16-byte boundary, their blocks' wide gathers, two 16-byte texels each: the mean and
+// then, from a 16-byte boundary, the blocks' wide gathers, two 16-byte texels each: the mean and
 // R_s (float bits; R_s < 0: none), and the representative's refl.pack.geo texel (P − eye, oct N),
-// REFL_BLOCKS² a tile; then the pixels reflections.isg.own finishes (their indices).
+// REFL_BLOCKS² a tile (a tile reflections.list left out gets R_s = −1 alone); then the pixels reflections.isg.own finishes (their indices).
 #define REFL_STATS_SEARCHES 1024u
 #define REFL_TILE_CHEAP 0xffffffffu
 #define REFL_QUADS (REFL_TILE / 2u)   // 2×2 quads a tile row

@@ -2,7 +2,8 @@
 // Pass reflections.isg.wide (method isg, step 2 of 4): a lane per 4×4 block of the tiles
 // reflections.list kept. Where the footprint (eq. 13) of the block's top-left quad's
 // representative is wide (R_s ≥ REFL_REUSE_RADIUS), its gather over the whole lattice (eq. 4,
-// 13, 14): the mean the block's pixels with wide lobes take bilinearly in reflections.isg.
+// 13, 14): the mean that the pixels with wide lobes around the block, in its tile and the tiles
+// beside it, take bilinearly in reflections.isg and reflections.isg.own.
 #extension GL_GOOGLE_include_directive : require
 #extension GL_KHR_shader_subgroup_arithmetic : require
 #extension GL_KHR_shader_subgroup_basic : require

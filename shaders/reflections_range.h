@@ -1,6 +1,6 @@
 // GLSL only: the range function of eq. 10-12 on refl.pack.geo's texels (P − eye as float bits,
-// octahedral N), shared by reflections.pack (its coarse cells' means) and the dispatches of
-// reflections.isg. Included after the push constants `pc` (ReflIsgPush); needs isg_view.h.
+// octahedral N), shared by reflections.pack.cells (reflections_cells.comp: the coarse cells'
+// means) and the dispatches of reflections.isg. Included after the push constants `pc` (ReflIsgPush); needs isg_view.h.
 #ifndef REFLECTIONS_RANGE_H
 #define REFLECTIONS_RANGE_H
 

@@ -62,6 +62,21 @@ TEST_F(Tiles, ImageSpaceEffectsInTilesEqualOnePiece) {
   }
 }
 
+// Glossy reflections with wide lobes: reflections.max_radius 80 takes footprints past
+// REFL_REUSE_RADIUS (the 4x4 blocks' gathers blended across tile borders) and gather taps past
+// REFL_COARSE_GATHER (the prefiltered coarse cells). Pieces start at multiples of 16 pixels, so
+// the block and cell grids are the frame's: 320 x 180 in 64-pixel tiles.
+TEST_F(Tiles, WideGlossyLobesInTilesEqualOnePiece) {
+  const auto dir = isg::test::synth_case({"contact", 320, 180, 0}, "tiles-contact-320");
+  int tiles = 0;
+  const Diff d = tiled_against_whole(
+      ctx(), dir, 64, {{"shadows.method", "hard"}, {"reflections.max_radius", "80"}}, &tiles);
+  std::printf("%d tiles, %zu channels, largest difference %.3g\n", tiles, d.channels, d.max);
+  EXPECT_GT(tiles, 4);
+  EXPECT_GT(d.channels, 10u);
+  EXPECT_EQ(d.max, 0.0);
+}
+
 // The shadow-map methods (receiver plane from the screen neighbours, pixel-hash rotation).
 TEST_F(Tiles, ShadowMapMethodsInTilesEqualOnePiece) {
   const auto dir = isg::test::synth_case({"contact", 192, 108, 0, 1, 128}, "tiles-smap");

@@ -77,7 +77,7 @@ struct Ctx {
     return size_t(y) * in.w + x;
   }
   // The pixel a coarse tap reads (shaders/reflections_isg_io.h, REFL_COARSE): the one its cell
-  // keeps.
+  // keeps, whose geometry and distance it takes; a gather tap takes the cell's colour (cell_refl).
   size_t tap_coarse(V2 q) const {
     const size_t t = tap(q);
     const auto pick = [](int v, int size) {
