@@ -189,7 +189,7 @@ float sm_cone_radius(float k, float z, float qz, float margin) {
 // The narrowed blocker search's box (vssm's and cssm's): the half-width of the square of the
 // cone's area, at least a texel wide.
 float sm_cone_box(float k, float z, float qz, float margin) {
-  return max(0.886226925 * sm_cone_radius(k, z, qz, margin), 0.5);
+  return max(SM_BOX_OF_DISK * sm_cone_radius(k, z, qz, margin), 0.5);
 }
 float sm_fetch(vec2 c) {
   return sm_map(uint(c.y) * p.map_w + uint(c.x));

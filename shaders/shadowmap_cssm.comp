@@ -200,8 +200,7 @@ void main() {
   vec2 cc = floor(q.xy) + 0.5;
   float d = clamp((sm_threshold(q, g, cc, texel_world) - c.zmin) / c.zrange, 0.0, 1.0);
   // Blocker search (Fig. 5.1a): PCSS's disk as a box of the same area, at least one texel.
-  float rs = sm_cone_radius(k, p.min_depth, q.z, 1.0);
-  float hs = max(0.886226925 * rs, 0.5);
+  float hs = sm_cone_box(k, p.min_depth, q.z, 1.0);
   float s_f = cssm_filtered(q, g, texel_world, hs, d, false);
   if (cssm_suppress(s_f) >= 1.0 || 1.0 - s_f < 1e-3) {
     atomicAdd(stats[SHADOWMAP_STAT_SKIPPED], 1u);  // no blockers: fully lit
@@ -230,7 +229,7 @@ void main() {
   // Penumbra width (§5.3.1): rf = k (1/z_avg − 1/d).
   float rf = k * max(1.0 / zb - 1.0 / q.z, 0.0);
   if (rf > p.max_radius) { rf = p.max_radius; atomicAdd(stats[SHADOWMAP_STAT_CLAMPED], 1u); }
-  float v = cssm_suppress(cssm_filtered(q, g, texel_world, max(0.886226925 * rf, 0.5), d, false));
+  float v = cssm_suppress(cssm_filtered(q, g, texel_world, max(SM_BOX_OF_DISK * rf, 0.5), d, false));
   float pw = 1.0 + c.sharpen_a * exp(-c.sharpen_b * (d - z_avg));  // eq. 5.9
   // A blocker nearer the receiver than x0 / s_z of the depth range shadows it by less than half
   // (cssm.cpp): the expansion cannot place the penumbrae such blockers cast, so the input's edge

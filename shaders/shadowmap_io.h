@@ -58,6 +58,8 @@ struct ShadowmapParams {
 // A pcss narrowed blocker search's radius over the light's cone at the mean blocker depth
 // (shadowmap_pcss.comp).
 #define PCSS_NARROW_MARGIN 1.5
+// √π / 2: the half-width of a square of a unit disk's area (a disk's box, §5.3.1's kernels).
+#define SM_BOX_OF_DISK 0.886226925452758
 // sm_irradiance: the receiver's cosine to the light's centre is kept above this in the weights'
 // normalisation (a receiver edge-on to the light's centre still sees its upper half).
 #define SHADOWMAP_MIN_CN 1e-3

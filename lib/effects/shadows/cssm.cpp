@@ -355,8 +355,7 @@ std::vector<float> cssm_reference(const ShadowmapInputs& in, const ShadowmapData
     };
     auto visibility = [&](double h) { return filtered(h, false); };
     // Blocker search (Fig. 5.1a): the PCSS region as a box of the same area.
-    const double rs = Geom::cone_radius(k, map.min_depth, q[2], 1.0, s.max_radius);
-    double hs = std::max(kBoxOfDisk * rs, kMinHalfWidth);
+    double hs = Geom::cone_box(k, map.min_depth, q[2], 1.0, s.max_radius);
     const double sf = visibility(hs);
     if (suppress(u, sf) >= 1.0 || 1.0 - sf < kMinBlockers) {
       ++st.skipped;  // no blockers: fully lit

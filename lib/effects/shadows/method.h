@@ -15,7 +15,7 @@
 
 namespace isg::effects::detail {
 constexpr double kPi = 3.14159265358979323846;
-constexpr double kBoxOfDisk = 0.886226925452758;  // √π / 2: a square of the disk's area
+constexpr double kBoxOfDisk = SM_BOX_OF_DISK;  // √π / 2: a square of the disk's area
 using V2 = std::array<double, 2>;
 using V3 = std::array<double, 3>;
 // A receiver plane: d(1/z)/du, d(1/z)/dv, the depth spread (bias), the slope bound (texel
