@@ -1,5 +1,6 @@
 #version 450
 #extension GL_GOOGLE_include_directive : require
+#extension GL_EXT_control_flow_attributes : require
 #include "shadowmap_io.h"
 #include "shadowmap_cssm_io.h"
 // CSSM shading (thesis §5.2-5.3, Fig. 5.4): a box blocker search as wide as PCSS's, the
@@ -8,6 +9,10 @@
 // suppression (§5.2.3) and sharpening (eq. 5.9); each lookup split into sub-kernels with the
 // receiver's depth at their centres where the receiver plane's depth changes across it (see
 // cssm.cpp). Mirrors cssm_reference (cssm.cpp).
+// One lookup site: every lookup of a pixel (the search, its narrowed passes, the filter) runs
+// through the one loop of main and the one sub-kernel loop of cssm_filtered, and a lookup
+// reads four basis images a load. Written as the thesis's steps one after the other, with the
+// lookup inlined at each, LLVM took ten minutes to compile this kernel on lavapipe (issue 51).
 layout(local_size_x = SHADOWMAP_LOCAL, local_size_y = SHADOWMAP_LOCAL) in;
 layout(std430, binding = 0) readonly buffer Prm { ShadowmapParams p; };
 layout(std430, binding = 1) readonly buffer Cprm { CssmParams c; };
@@ -21,10 +26,10 @@ layout(push_constant) uniform Push { ShadowmapPush pc; };
 // Storage buffers, not texel views: on lavapipe (Mesa 22.3) this kernel ran 4x slower with its four
 // planes read through texel views (52 -> 220 s at 1080p; reason not found), where every other
 // gather got faster.
+layout(std430, binding = 8) readonly buffer Tab { uvec4 tab[]; };  // shadowmap_cssm_io.h
+layout(std430, binding = 9) readonly buffer Tz { uint tz[]; };
 #define SHADOWMAP_STORAGE_BUFFERS
 #include "shadowmap_common.h"
-#define CSSM_TABLES_BINDING 8
-#define CSSM_TABLES_READ
 #include "shadowmap_cssm_common.h"
 
 // A box kernel of half-width h texels about q, as SAT corners or as mip taps.
@@ -33,8 +38,8 @@ struct Kern {
   vec3 wx, wy;    // SAT: weights of the span [X0, X1), the cell X0, the cell X1
   float inv;      // SAT: 1 / (fixed-point scale · clipped area)
   float area;     // the clipped area, block units²
-  uint b0, b1;    // mip: first element of the two levels within a layer
-  uvec4 i0, i1;   // mip: bilinear texels within each level's layer
+  uint b0, b1;    // mip: first texel of the two levels
+  uvec4 i0, i1;   // mip: bilinear texels within each level
   vec4 w0, w1;    // mip: their weights (the level blend included)
 };
 
@@ -79,72 +84,63 @@ Kern make_kern(vec2 q, vec2 h) {
   return K;
 }
 
-uvec2 add64(uvec2 a, uvec2 b) {
-  uint cy;
-  uint lo = uaddCarry(a.x, b.x, cy);
-  return uvec2(lo, a.y + b.y + cy);
-}
-uvec2 sub64(uvec2 a, uvec2 b) {
-  uint br;
-  uint lo = usubBorrow(a.x, b.x, br);
-  return uvec2(lo, a.y - b.y - br);
-}
-float to_float(uvec2 v) {  // two's complement int64, magnitude first (no cancellation)
-  bool neg = (v.y & 0x80000000u) != 0u;
-  if (neg) v = add64(~v, uvec2(1u, 0u));
-  float r = float(v.y) * 4294967296.0 + float(v.x);
-  return neg ? -r : r;
-}
+// The texel index of SAT entry (x, y) (x, y >= 1; the zero row and column are not stored).
+int sat_texel(int x, int y) { return (x <= 0 || y <= 0) ? -1 : (y - 1) * int(c.level_w[0]) + (x - 1); }
+uvec4 tab_at(int t, uint j) { return t < 0 ? uvec4(0u) : tab[uint(t) * c.groups + j]; }
+uint tz_at(int t) { return t < 0 ? 0u : tz[uint(t)]; }
 
-// Inclusive SAT entry (x, y) = sum over [0, x) x [0, y).
-uvec2 sat_at(uint layer, int x, int y) {
-  if (x <= 0 || y <= 0) return uvec2(0u);
-  uint j = uint(y - 1) * c.level_w[0] + uint(x - 1);
-  return uvec2(cssm_get(layer, 2u * j), cssm_get(layer, 2u * j + 1u));
-}
-
-// The box average of basis layer `layer` (eq. 5.3: w * B_i).
-float cssm_box(uint layer, Kern K) {
+// The box average of four basis images (group j of `tab`; the z image in .x where j is
+// c.groups) (eq. 5.3: w * B_i). SAT: the continuous box integral of the texel-constant image,
+// whole spans exactly in the integers (wrapping uint differences), the fractional border cells
+// weighted (9 rectangles of the 4 x 4 corners).
+vec4 cssm_box(uint j, Kern K) {
+  bool z = j == c.groups;
   if (c.prefilter == CSSM_FILTER_SAT) {
-    uvec2 S[16];
-    for (int a = 0; a < 4; ++a)
-      for (int b = 0; b < 4; ++b) S[a * 4 + b] = sat_at(layer, K.X[a], K.Y[b]);
-    // The continuous box integral of the texel-constant layer: whole spans exactly in the
-    // integers, the fractional border cells weighted (9 rectangles).
+    uvec4 S[16];
+    [[unroll]] for (int a = 0; a < 4; ++a)
+      [[unroll]] for (int b = 0; b < 4; ++b) {
+        int t = sat_texel(K.X[a], K.Y[b]);
+        S[a * 4 + b] = z ? uvec4(tz_at(t), 0u, 0u, 0u) : tab_at(t, j);
+      }
     const ivec2 span[3] = ivec2[3](ivec2(0, 2), ivec2(0, 1), ivec2(2, 3));
-    float sum = 0.0;
-    for (int a = 0; a < 3; ++a)
-      for (int b = 0; b < 3; ++b) {
-        float w = K.wx[a] * K.wy[b];
-        if (w == 0.0) continue;
+    vec4 sum = vec4(0.0);
+    [[unroll]] for (int a = 0; a < 3; ++a)
+      [[unroll]] for (int b = 0; b < 3; ++b) {
         ivec2 sa = span[a], sb = span[b];
-        uvec2 r = sub64(add64(S[sa.y * 4 + sb.y], S[sa.x * 4 + sb.x]),
-                        add64(S[sa.x * 4 + sb.y], S[sa.y * 4 + sb.x]));
-        sum += w * to_float(r);
+        uvec4 r = (S[sa.y * 4 + sb.y] + S[sa.x * 4 + sb.x]) - (S[sa.x * 4 + sb.y] + S[sa.y * 4 + sb.x]);
+        sum += (K.wx[a] * K.wy[b]) * vec4(ivec4(r));
       }
     return sum * K.inv;
   }
   uvec4 j0 = K.b0 + K.i0, j1 = K.b1 + K.i1;
-  vec4 v0 = uintBitsToFloat(uvec4(cssm_get(layer, j0.x), cssm_get(layer, j0.y),
-                                  cssm_get(layer, j0.z), cssm_get(layer, j0.w)));
-  vec4 v1 = uintBitsToFloat(uvec4(cssm_get(layer, j1.x), cssm_get(layer, j1.y),
-                                  cssm_get(layer, j1.z), cssm_get(layer, j1.w)));
-  return dot(K.w0, v0) + dot(K.w1, v1);
+  if (z)
+    return vec4(dot(K.w0, uintBitsToFloat(uvec4(tz[j0.x], tz[j0.y], tz[j0.z], tz[j0.w]))) +
+                dot(K.w1, uintBitsToFloat(uvec4(tz[j1.x], tz[j1.y], tz[j1.z], tz[j1.w]))), 0.0, 0.0, 0.0);
+  uint G = c.groups;
+  return K.w0.x * uintBitsToFloat(tab[j0.x * G + j]) + K.w0.y * uintBitsToFloat(tab[j0.y * G + j]) +
+         K.w0.z * uintBitsToFloat(tab[j0.z * G + j]) + K.w0.w * uintBitsToFloat(tab[j0.w * G + j]) +
+         K.w1.x * uintBitsToFloat(tab[j1.x * G + j]) + K.w1.y * uintBitsToFloat(tab[j1.y * G + j]) +
+         K.w1.z * uintBitsToFloat(tab[j1.z * G + j]) + K.w1.w * uintBitsToFloat(tab[j1.w * G + j]);
 }
 
 // The raw filtered visibility s_f of kernel K against the normalised receiver depth dn (eq. 5.3,
 // 5.10); with csm_z, CSM-Z's numerator w * (f̄ z) instead (eq. 5.11:
-// (w * z)/2 + Σ 2/c_k [sin(c_k δ)(w * z cos) − cos(c_k δ)(w * z sin)]).
+// (w * z)/2 + Σ 2/c_k [sin(c_k δ)(w * z cos) − cos(c_k δ)(w * z sin)]). The terms' (cos, sin)
+// of c_k δ by rotation: e^{iπ(2k+1)δ} = e^{iπδ} (e^{2iπδ})^k.
 float cssm_lookup(Kern K, float dn, bool csm_z) {
   float delta = c.s_z * dn - c.x0;
-  float v = csm_z ? 0.5 * cssm_box(4u * c.order, K) : 0.5;
-  uint base = csm_z ? 2u * c.order : 0u;
-  for (uint k = 0u; k < c.order; ++k) {
-    float m = float(2u * k + 1u);
-    vec2 cs = cssm_cis(m, delta);
-    float t = 2.0 / (3.14159265358979 * m) *
-              (cs.y * cssm_box(base + k, K) - cs.x * cssm_box(base + c.order + k, K));
+  float v = csm_z ? 0.5 * cssm_box(c.groups, K).x : 0.5;
+  uint half_g = c.groups / 2u, base = csm_z ? half_g : 0u;
+  vec2 e1 = cssm_cis(1.0, delta), e2 = vec2(e1.x * e1.x - e1.y * e1.y, 2.0 * e1.x * e1.y);
+  vec2 e = e1;  // (cos, sin) of c_k δ for the group's first term
+  for (uint j = 0u; j < half_g; ++j) {
+    vec4 B = cssm_box(base + j, K);  // (cos, sin) boxes of terms 2j and 2j + 1
+    vec2 en = vec2(e.x * e2.x - e.y * e2.y, e.x * e2.y + e.y * e2.x);
+    float m = float(4u * j + 1u);
+    float t = 2.0 / (3.14159265358979 * m) * (e.y * B.x - e.x * B.y) +
+              2.0 / (3.14159265358979 * (m + 2.0)) * (en.y * B.z - en.x * B.w);
     v += csm_z ? t : -t;
+    e = vec2(en.x * e2.x - en.y * e2.y, en.x * e2.y + en.y * e2.x);
   }
   return v;
 }
@@ -164,19 +160,23 @@ uint cssm_split(vec3 q, vec4 g, float tw, vec2 lo, vec2 hi) {
 float cssm_filtered(vec3 q, vec4 g, float tw, float h, float d, bool csm_z) {
   uint nx = cssm_split(q, g, tw, vec2(q.x - h, q.y), vec2(q.x + h, q.y));
   uint ny = cssm_split(q, g, tw, vec2(q.x, q.y - h), vec2(q.x, q.y + h));
-  if (nx * ny == 1u) return cssm_lookup(make_kern(q.xy, vec2(h)), d, csm_z);
+  bool one = nx * ny == 1u;
   vec2 sh = vec2(h / float(nx), h / float(ny));
   float sum = 0.0, area = 0.0;
-  for (uint j = 0u; j < ny; ++j)
-    for (uint i = 0u; i < nx; ++i) {
-      vec2 b = q.xy - h + vec2(float(2u * i + 1u), float(2u * j + 1u)) * sh;
-      Kern K = make_kern(b, sh);
-      if (K.area <= 0.0) continue;
-      float dn = clamp((sm_threshold(q, g, b, tw) - c.zmin) / c.zrange, 0.0, 1.0);
-      sum += K.area * cssm_lookup(K, dn, csm_z);
-      area += K.area;
+  for (uint s = 0u; s < nx * ny; ++s) {
+    uint i = s % nx, j = s / nx;
+    vec2 b = one ? q.xy : q.xy - h + vec2(float(2u * i + 1u), float(2u * j + 1u)) * sh;
+    Kern K = make_kern(b, one ? vec2(h) : sh);
+    if (one || K.area > 0.0) {
+      float dn = one ? d : clamp((sm_threshold(q, g, b, tw) - c.zmin) / c.zrange, 0.0, 1.0);
+      float a = one ? 1.0 : K.area;
+      sum += a * cssm_lookup(K, dn, csm_z);
+      area += a;
     }
-  return area > 0.0 ? sum / area : cssm_lookup(make_kern(q.xy, vec2(h)), d, csm_z);
+    // Every sub-kernel outside the map: the whole box's lookup, as one (the reference's).
+    if (s + 1u == nx * ny && area <= 0.0) { nx = ny = 1u; one = true; s = ~0u; }
+  }
+  return sum / area;
 }
 
 // Ringing suppression (§5.2.3, Fig. 5.2c-d): scale about 1/2, then clamp.
@@ -199,37 +199,45 @@ void main() {
   // Receiver depth d: the biased receiver-plane threshold at its own texel centre, normalised.
   vec2 cc = floor(q.xy) + 0.5;
   float d = clamp((sm_threshold(q, g, cc, texel_world) - c.zmin) / c.zrange, 0.0, 1.0);
-  // Blocker search (Fig. 5.1a): PCSS's disk as a box of the same area, at least one texel.
-  float hs = sm_cone_box(k, p.min_depth, q.z, 1.0);
-  float s_f = cssm_filtered(q, g, texel_world, hs, d, false);
-  if (cssm_suppress(s_f) >= 1.0 || 1.0 - s_f < 1e-3) {
-    atomicAdd(stats[SHADOWMAP_STAT_SKIPPED], 1u);  // no blockers: fully lit
-    soft[i] = sm_input_edges(1.0, hard[i], 0.0);
-    return;
-  }
-  float num = cssm_filtered(q, g, texel_world, hs, d, true);  // CSM-Z (eq. 5.11)
-  float z_avg = clamp(num / (1.0 - s_f), 0.0, d);  // eq. 5.8
-  float zb = c.zmin + z_avg * c.zrange;
-  // The search narrowed to the blockers' cone (cssm.cpp), while it shrinks: blockers outside the
-  // light's cone at the mean blocker depth cannot shadow the receiver, but pulled the mean
-  // towards its depth (PCSS's region is as wide as the nearest possible blocker's cone).
-  for (uint pass = 0u; pass < c.narrow; ++pass) {
-    float hn = sm_cone_box(k, zb, q.z, CSSM_NARROW_MARGIN);
-    if (hn >= hs) break;
-    float sn = cssm_filtered(q, g, texel_world, hn, d, false);
-    if (cssm_suppress(sn) >= 1.0 || 1.0 - sn < 1e-3) {
-      atomicAdd(stats[SHADOWMAP_STAT_SKIPPED], 1u);  // none of them reaches it: fully lit
-      soft[i] = sm_input_edges(1.0, hard[i], 0.0);
-      return;
+  // The steps, each a lookup over half-width h: the blocker search (Fig. 5.1a: PCSS's disk as a
+  // box of the same area, at least one texel) s_f, then CSM-Z over the same box (eq. 5.11) for
+  // z_avg (eq. 5.8); the narrowed searches likewise (the search narrowed to the blockers' cone,
+  // cssm.cpp, while it shrinks: blockers outside the light's cone at the mean blocker depth
+  // cannot shadow the receiver, but pulled the mean towards its depth); last the filter over
+  // the penumbra's width (§5.3.1).
+  float hs = sm_cone_box(k, p.min_depth, q.z, 1.0), h = hs;
+  float s_f = 1.0, z_avg = 0.0, zb = 0.0, rf = 0.0;
+  uint step = 0u;  // 0: s_f over h; 1: CSM-Z over h; 2: the filter
+  for (uint pass = 0u;;) {
+    float r = cssm_filtered(q, g, texel_world, h, d, step == 1u);
+    if (step == 2u) { s_f = r; break; }
+    if (step == 0u) {
+      if (cssm_suppress(r) >= 1.0 || 1.0 - r < 1e-3) {
+        atomicAdd(stats[SHADOWMAP_STAT_SKIPPED], 1u);  // no blockers (within reach): fully lit
+        soft[i] = sm_input_edges(1.0, hard[i], 0.0);
+        return;
+      }
+      s_f = r;
+      step = 1u;
+      continue;
     }
-    z_avg = clamp(cssm_filtered(q, g, texel_world, hn, d, true) / (1.0 - sn), 0.0, d);
+    z_avg = clamp(r / (1.0 - s_f), 0.0, d);
     zb = c.zmin + z_avg * c.zrange;
-    hs = hn;
+    hs = h;
+    float hn = pass < c.narrow ? sm_cone_box(k, zb, q.z, CSSM_NARROW_MARGIN) : hs;
+    ++pass;
+    if (hn < hs) {
+      h = hn;
+      step = 0u;
+      continue;
+    }
+    // Penumbra width (§5.3.1): rf = k (1/z_avg − 1/d).
+    rf = k * max(1.0 / zb - 1.0 / q.z, 0.0);
+    if (rf > p.max_radius) { rf = p.max_radius; atomicAdd(stats[SHADOWMAP_STAT_CLAMPED], 1u); }
+    h = max(SM_BOX_OF_DISK * rf, 0.5);
+    step = 2u;
   }
-  // Penumbra width (§5.3.1): rf = k (1/z_avg − 1/d).
-  float rf = k * max(1.0 / zb - 1.0 / q.z, 0.0);
-  if (rf > p.max_radius) { rf = p.max_radius; atomicAdd(stats[SHADOWMAP_STAT_CLAMPED], 1u); }
-  float v = cssm_suppress(cssm_filtered(q, g, texel_world, max(SM_BOX_OF_DISK * rf, 0.5), d, false));
+  float v = cssm_suppress(s_f);
   float pw = 1.0 + c.sharpen_a * exp(-c.sharpen_b * (d - z_avg));  // eq. 5.9
   // A blocker nearer the receiver than x0 / s_z of the depth range shadows it by less than half
   // (cssm.cpp): the expansion cannot place the penumbrae such blockers cast, so the input's edge

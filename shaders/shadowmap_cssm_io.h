@@ -4,33 +4,39 @@
 ISG_IO_BEGIN
 #define CSSM_LOCAL 16
 #define CSSM_MAX_LEVELS 16     // mip levels: maps up to 32768 texels a side
-#define CSSM_FILTER_SAT 0u     // shadows.cssm_filter = sat: 64-bit fixed-point SATs
+#define CSSM_FILTER_SAT 0u     // shadows.cssm_filter = sat: 32-bit integer SATs (§7.5.4's format)
 #define CSSM_FILTER_MIPMAP 1u  // shadows.cssm_filter = mipmap: 2x2 box pyramids (float)
-#define CSSM_MAX_LAYERS 65     // 4M + 1 for M <= 16 (shadows.cssm_order's range)
-#define CSSM_CHUNKS 8          // the layers are spread over up to 8 buffers (storage range)
+#define CSSM_MAX_ORDER 16      // shadows.cssm_order's range
 #define CSSM_NARROW_MARGIN 1.7  // a narrowed blocker search's radius over its cone's (cssm.cpp)
-// Convolution soft shadow maps (thesis ch. 5). The basis images are layers of one buffer, in
-// this order, for k = 1..M and c_k = π(2k − 1) (eq. 5.10, Annen07):
-//   [0, M) cos(c_k ζ), [M, 2M) sin(c_k ζ)          CSM (eq. 5.2-5.3)
-//   [2M, 3M) z·cos(c_k ζ), [3M, 4M) z·sin(c_k ζ)   CSM-Z (eq. 5.11)
-//   4M: z                                          the z/2 term of eq. 5.11
+// Convolution soft shadow maps (thesis ch. 5). The 4M + 1 basis images, for k = 1..M and
+// c_k = π(2k − 1) (eq. 5.10, Annen07):
+//   cos(c_k ζ), sin(c_k ζ)            CSM (eq. 5.2-5.3)
+//   z·cos(c_k ζ), z·sin(c_k ζ)        CSM-Z (eq. 5.11)
+//   z                                 the z/2 term of eq. 5.11
 // with z ∈ [0, 1] the map depth normalised over [zmin, zmin + zrange] (background: 1) and
 // ζ = s_z·z the argument of the expansion (s_z = 1 − 2·x0 keeps the shifted step off the
-// expansion's period boundary). Each layer (its SAT, 2 uints an entry, or its whole mip chain,
-// 1 float a texel) is layer_elems uints; chunk c holds layers [c·chunk_layers, ...) one after
-// the other. Read from a storage buffer (std430, no padding).
+// expansion's period boundary). Layout, so that one 16-byte load reads four images at a texel:
+// buffer `tab` holds `groups` uvec4 per texel (texel e's group j at e·groups + j): groups
+// [0, groups/2) the CSM pairs (cos, sin of term 2j, then of term 2j + 1), groups [groups/2,
+// groups) the CSM-Z pairs likewise (a missing last term of odd M is zero); buffer `tz` holds
+// the z image, a uint per texel. SAT (CSSM_FILTER_SAT): texel (x, y) is the table's entry
+// (x + 1, y + 1) (the zero row and column are implicit), a 32-bit integer, modular: values
+// are quantised to sat_scale units, at most 2^30 over the largest rectangle a kernel reads,
+// so its sum, taken in wrapping uint arithmetic from four entries, is exact (Lauritzen07's
+// integer SATs, which VSSM §7.5.4 adopts). Mipmap: every level of the chain, level l from
+// texel level_off[l], as float bits. Read from storage buffers (std430, no padding).
 struct CssmParams {
-  uint order, prefilter, layers, levels;  // M, CSSM_FILTER_*, 4M + 1, mip levels (1 for SAT)
+  uint order, prefilter, groups, levels;  // M, CSSM_FILTER_*, uvec4 groups a texel, mip levels
   float zmin, zrange, s_z, x0;         // depth normalisation; step shift (ringing, §5.2.3)
   float alpha;                         // ringing scale about 1/2 (§5.2.3, Fig. 5.2c)
   float sharpen_a, sharpen_b;          // A, B of eq. 5.9
   float sat_scale;                     // SAT fixed point: integer units per unit of value
-  uint chunk_layers, layer_elems;      // layers a buffer, uints a layer
   uint basis_shift;                    // basis texels are 2^basis_shift map texels a side
   uint max_split;                      // shadows.cssm_split: most sub-kernels a side
   uint narrow;                         // shadows.cssm_narrow: narrowed blocker searches
+  uint pad0;
   uint level_w[CSSM_MAX_LEVELS], level_h[CSSM_MAX_LEVELS];
-  uint level_off[CSSM_MAX_LEVELS];  // first element of each mip level within a layer
+  uint level_off[CSSM_MAX_LEVELS];  // first texel of each mip level (0 for the SAT)
 };
 // Basis: width, height = the map (the basis, level_w/h[0], is it in blocks); mip: the level
 // built (its size from CssmParams).

@@ -1,4 +1,5 @@
 #version 450
 #extension GL_GOOGLE_include_directive : require
+#extension GL_EXT_control_flow_attributes : require
 // VSSM with the moments in float, for devices without shaderFloat64 (shadowmap_vssm.glsl).
 #include "shadowmap_vssm.glsl"

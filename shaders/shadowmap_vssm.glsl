@@ -44,10 +44,9 @@ layout(binding = 3) uniform samplerBuffer hard;
 layout(binding = 4) uniform samplerBuffer smap;
 layout(std430, binding = 5) readonly buffer Vprm { VssmParams v; };
 layout(binding = 6) uniform samplerBuffer hsm;
-layout(binding = 7) uniform usamplerBuffer sat1;
-layout(binding = 8) uniform usamplerBuffer sat2;
-layout(std430, binding = 9) writeonly buffer Soft { float soft[]; };
-layout(std430, binding = 10) buffer Stats { uint stats[]; };
+layout(binding = 7) uniform usamplerBuffer sat;  // the SATs of z and (z − z0)², interleaved
+layout(std430, binding = 8) writeonly buffer Soft { float soft[]; };
+layout(std430, binding = 9) buffer Stats { uint stats[]; };
 layout(push_constant) uniform Push { ShadowmapPush pc; };
 #include "shadowmap_common.h"
 
@@ -58,14 +57,16 @@ vec2 hsm_range(vec2 flo, vec2 fhi) {
   int size = max(hi.x - lo.x, hi.y - lo.y);
   uint L = 0u;
   while ((1 << L) < size && L + 1u < v.levels) ++L;
+  // At most 2 x 2 texels of level L; a fixed 2 x 2 (the second column or row repeating the
+  // first where the span has one), so the loop unrolls.
   ivec2 a = lo >> L, b = (hi - 1) >> L;
   vec2 r = vec2(1e30, -1e30);
-  for (int y = a.y; y <= b.y; ++y)
-    for (int x = a.x; x <= b.x; ++x) {
-      vec2 c = L == 0u ? vec2(min(texelFetch(smap, int(uint(y) * p.map_w + uint(x))).r, v.far_z))
-                       : texelFetch(hsm, int(v.level_off[L] + uint(y) * v.level_w[L] + uint(x))).xy;
-      r = vec2(min(r.x, c.x), max(r.y, c.y));
-    }
+  [[unroll]] for (int k = 0; k < 4; ++k) {
+    int x = (k & 1) != 0 ? b.x : a.x, y = (k & 2) != 0 ? b.y : a.y;
+    vec2 c = L == 0u ? vec2(min(texelFetch(smap, int(uint(y) * p.map_w + uint(x))).r, v.far_z))
+                     : texelFetch(hsm, int(v.level_off[L] + uint(y) * v.level_w[L] + uint(x))).xy;
+    r = vec2(min(r.x, c.x), max(r.y, c.y));
+  }
   return r;
 }
 
@@ -79,48 +80,49 @@ uvec2 add64(uvec2 a, uvec2 b) {
   uint lo = uaddCarry(a.x, b.x, carry);
   return uvec2(lo, a.y + b.y + carry);
 }
-uvec2 sat_at(bool second, int x, int y) {
-  if (x <= 0 || y <= 0) return uvec2(0u);
-  uint i = uint(y - 1) * p.map_w + uint(x - 1);
-  return second ? texelFetch(sat2, int(i)).xy : texelFetch(sat1, int(i)).xy;
+// Entry (x, y) of both SATs (xy: z, zw: (z − z0)²); 0 on the zero row and column.
+uvec4 sat_at(int x, int y) {
+  if (x <= 0 || y <= 0) return uvec4(0u);
+  return texelFetch(sat, int(uint(y - 1) * p.map_w + uint(x - 1)));
 }
-// A continuous interval [a, b) of texels as up to three integer runs with weights: the partly
-// covered first texel, the whole ones, the partly covered last one (the box filter of the
-// exact width, wherever it is centred). Run r spans [edge[r], edge[r + 1]).
-int runs(float a, float b, out ivec4 edge, out vec3 wt) {
+// A continuous interval [a, b) of texels as three integer runs with weights: the partly covered
+// first texel, the whole ones, the partly covered last one (the box filter of the exact width,
+// wherever it is centred). Run r spans [edge[r], edge[r + 1]); an interval within one texel
+// has one run of weight b − a and two empty ones (weight 0, no span), so the corners are
+// always 4 x 4 and the loops unroll.
+void runs(float a, float b, out ivec4 edge, out vec3 wt) {
   int i0 = int(floor(a)), i1 = int(ceil(b)) - 1;  // first and last texel touched
   if (i0 >= i1) {
-    edge = ivec4(i0, i0 + 1, 0, 0); wt = vec3(b - a, 0.0, 0.0);
-    return 1;
+    edge = ivec4(i0, i0 + 1, i0 + 1, i0 + 1); wt = vec3(b - a, 0.0, 0.0);
+    return;
   }
   edge = ivec4(i0, i0 + 1, i1, i1 + 1);
   wt = vec3(float(i0 + 1) - a, 1.0, b - float(i1));
-  return 3;
 }
 R to_real(uvec2 s) { return R(int(s.y)) * R(4294967296.0) + R(s.x); }
 
 // The moments of one sub-kernel [lo, hi): area T, mean E(z), E((z − z0)²) (ezf: E(z) in float;
-// var: the variance). Both box sums come from the 4 x 4 SAT entries at the runs' edges, each
-// run's rectangle exact in the integers.
+// var: the variance). Both box sums come from the 4 x 4 SAT entries at the runs' edges (one
+// texel fetch each for both tables), each run's rectangle exact in the integers.
 struct Moments { float T; R ez, ez2; float ezf, var; };
 float variance(R ez, R ez2) { return float(max(ez2 - (ez - R(v.z0)) * (ez - R(v.z0)), R(0.0))); }
 Moments moments(vec2 lo, vec2 hi) {
   ivec4 ex, ey;
   vec3 wx, wy;
-  int nx = runs(lo.x, hi.x, ex, wx), ny = runs(lo.y, hi.y, ey, wy);
-  uvec2 c1[16], c2[16];
-  for (int j = 0; j <= ny; ++j)
-    for (int i = 0; i <= nx; ++i) {
-      c1[j * 4 + i] = sat_at(false, ex[i], ey[j]);
-      c2[j * 4 + i] = sat_at(true, ex[i], ey[j]);
-    }
+  runs(lo.x, hi.x, ex, wx);
+  runs(lo.y, hi.y, ey, wy);
+  uvec4 c[16];
+  [[unroll]] for (int j = 0; j < 4; ++j)
+    [[unroll]] for (int i = 0; i < 4; ++i) c[j * 4 + i] = sat_at(ex[i], ey[j]);
   R s1 = R(0.0), s2 = R(0.0), sw = R(0.0);  // sw: the weights' sum, the area they cover
-  for (int j = 0; j < ny; ++j)
-    for (int i = 0; i < nx; ++i) {
+  [[unroll]] for (int j = 0; j < 3; ++j)
+    [[unroll]] for (int i = 0; i < 3; ++i) {
       int a = j * 4 + i;
       float w = wx[i] * wy[j];
-      s1 += R(w) * to_real(sub64(add64(c1[a + 5], c1[a]), add64(c1[a + 1], c1[a + 4])));
-      s2 += R(w) * to_real(sub64(add64(c2[a + 5], c2[a]), add64(c2[a + 1], c2[a + 4])));
+      uvec4 r1 = uvec4(sub64(add64(c[a + 5].xy, c[a].xy), add64(c[a + 1].xy, c[a + 4].xy)),
+                       sub64(add64(c[a + 5].zw, c[a].zw), add64(c[a + 1].zw, c[a + 4].zw)));
+      s1 += R(w) * to_real(r1.xy);
+      s2 += R(w) * to_real(r1.zw);
       sw += R(w) * R((ex[i + 1] - ex[i]) * (ey[j + 1] - ey[j]));
     }
   Moments m;

@@ -63,6 +63,7 @@
 //   h/f). This is what lets 4M + 1 layers of a 4096² map fit a device.
 #include <algorithm>
 #include <cmath>
+#include <optional>
 #include <stdexcept>
 #include <string>
 
@@ -142,6 +143,18 @@ Setup make_setup(const ShadowmapData& map, const ShadowmapSettings& s) {
   u.zmin = map.min_depth;
   u.zrange = std::max(zmax - u.zmin, 1e-6 * std::max(u.zmin, 1e-30));
   return u;
+}
+
+// SAT fixed point (shadowmap_cssm_io.h): every basis value lies in [−1, 1], so a rectangle of
+// A block texels sums to at most A units of value; a power of two (exact in float) that keeps
+// A · scale within 2^30 for the largest rectangle a kernel reads (the box of the widest search
+// or filter, shadows.smap_max_radius, plus a texel, within the basis) keeps its 32-bit integer
+// sum exact in wrapping arithmetic.
+double sat_scale(const Setup& u, const ShadowmapSettings& s) {
+  const double side = std::ceil(2.0 * std::max(kBoxOfDisk * s.max_radius, kMinHalfWidth) /
+                                double(1 << u.shift)) + 2.0;
+  const double area = std::min(side, double(u.bw)) * std::min(side, double(u.bh));
+  return std::ldexp(1.0, 30 - int(std::ceil(std::log2(std::max(area, 1.0)))));
 }
 
 double norm_depth(const Setup& u, double z) {
@@ -397,34 +410,44 @@ std::vector<float> cssm_reference(const ShadowmapInputs& in, const ShadowmapData
 
 namespace detail {
 namespace {
-// CSSM on the GPU: basis images (one dispatch for all 4M + 1 layers), prefiltering (the SAT
-// scans over the layer stack, or one dispatch per mip level), then the shading kernel.
+// CSSM on the GPU: basis images (one dispatch for all 4M + 1), prefiltering (the 32-bit SAT
+// scans, or one dispatch per mip level), then the shading kernel.
 class Cssm final : public ShadowmapMethod {
  public:
   Cssm(gpu::Context& ctx, const ShadowmapSettings& s, const ShadowmapData& map, uint32_t w,
        uint32_t h, bool has_position)
       : basis_(ctx, "shadows.cssm.basis", isg_spv_shadowmap_cssm_basis,
-               std::vector<gpu::Slot>(2 + CSSM_CHUNKS, gpu::Slot::buffer),
-               sizeof(shaders::CssmPush), CSSM_LOCAL, CSSM_LOCAL),
-        mip_(ctx, "shadows.cssm.mip", isg_spv_shadowmap_cssm_mip,
-             std::vector<gpu::Slot>(1 + CSSM_CHUNKS, gpu::Slot::buffer), sizeof(shaders::CssmPush),
-             CSSM_LOCAL, CSSM_LOCAL),
+               std::vector<gpu::Slot>(4, gpu::Slot::buffer), sizeof(shaders::CssmPush),
+               CSSM_LOCAL, CSSM_LOCAL),
         shade_(ctx, "shadows.cssm", isg_spv_shadowmap_cssm,
-               std::vector<gpu::Slot>(8 + CSSM_CHUNKS, gpu::Slot::buffer),
-               sizeof(shaders::ShadowmapPush), SHADOWMAP_LOCAL, SHADOWMAP_LOCAL),
-        sat_(ctx),
+               std::vector<gpu::Slot>(10, gpu::Slot::buffer), sizeof(shaders::ShadowmapPush),
+               SHADOWMAP_LOCAL, SHADOWMAP_LOCAL),
         w_(w),
         h_(h),
         map_w_(uint32_t(map.width)),
         map_h_(uint32_t(map.height)) {
-    const Setup u = make_setup(map, s);
+    Setup u = make_setup(map, s);
+    const uint32_t groups = 2u * uint32_t((u.M + 1) / 2);
+    // The basis's texels: `groups` uvec4 each in one storage buffer; where the device's range
+    // cannot hold them, the basis is block-averaged further (as shadows.cssm_max_basis does).
+    auto texels_of = [](const Setup& v) {
+      const Levels L = mip_levels(v.bw, v.bh, v.sat);
+      uint64_t n = 0;
+      for (size_t l = 0; l < L.w.size(); ++l) n += uint64_t(L.w[l]) * uint64_t(L.h[l]);
+      return n;
+    };
+    while (texels_of(u) * groups * 16u > ctx.info().max_storage_buffer_range && u.bw * u.bh > 1) {
+      ++u.shift;
+      u.bw = (map.width + (1 << u.shift) - 1) >> u.shift;
+      u.bh = (map.height + (1 << u.shift) - 1) >> u.shift;
+    }
     const Levels L = mip_levels(u.bw, u.bh, u.sat);
     if (L.w.size() > CSSM_MAX_LEVELS) throw std::invalid_argument("cssm: shadow map too large");
     shaders::CssmParams c{};
     c.order = uint32_t(u.M);
+    if (u.M > CSSM_MAX_ORDER) throw std::invalid_argument("cssm: order above 16");
     c.prefilter = u.sat ? CSSM_FILTER_SAT : CSSM_FILTER_MIPMAP;
-    c.layers = uint32_t(4 * u.M + 1);
-    if (c.layers > CSSM_MAX_LAYERS) throw std::invalid_argument("cssm: order above 16");
+    c.groups = groups;
     c.basis_shift = uint32_t(u.shift);
     c.max_split = uint32_t(u.split);
     c.narrow = uint32_t(u.narrow);
@@ -436,44 +459,28 @@ class Cssm final : public ShadowmapMethod {
     c.alpha = float(u.alpha);
     c.sharpen_a = float(s.cssm_a);
     c.sharpen_b = float(s.cssm_b);
-    // Every basis value lies in [−1, 1]: 2^30 integer units per unit keeps each entry below
-    // 2^30 and any table sum (up to 2^30 · texels) exact in 64 bits, with no offset.
-    c.sat_scale = float(std::ldexp(1.0, 30) / 1.001);
-    // Layer size in uints: the SAT (2 a texel) or the whole mip chain (1 a texel).
-    uint64_t elems = 0;
+    c.sat_scale = float(sat_scale(u, s));
+    uint64_t texels = 0;
     for (size_t l = 0; l < L.w.size(); ++l) {
       c.level_w[l] = uint32_t(L.w[l]);
       c.level_h[l] = uint32_t(L.h[l]);
-      c.level_off[l] = uint32_t(elems);
-      elems += uint64_t(L.w[l]) * uint64_t(L.h[l]) * (u.sat ? 2u : 1u);
+      c.level_off[l] = uint32_t(texels);
+      texels += uint64_t(L.w[l]) * uint64_t(L.h[l]);
     }
-    // The layers over as few buffers as the device's storage buffer range allows.
-    const uint64_t layer_bytes = elems * 4u;
-    const uint64_t per =
-        std::min<uint64_t>(ctx.info().max_storage_buffer_range / layer_bytes, c.layers);
-    const uint64_t chunks = per ? (c.layers + per - 1) / per : CSSM_CHUNKS + 1;
-    if (chunks > CSSM_CHUNKS)
-      throw std::invalid_argument(
-          "cssm: the " + std::to_string(c.layers) + " basis images of a " +
-          std::to_string(map.width) + "x" + std::to_string(map.height) +
-          " shadow map (at " + std::to_string(u.bw) + "x" + std::to_string(u.bh) +
-          ") exceed the device's storage buffers; lower shadows.cssm_max_basis or "
-          "shadows.cssm_order");
-    c.chunk_layers = uint32_t(per);
-    c.layer_elems = uint32_t(elems);
     cparams_ = c;
     const shaders::ShadowmapParams p = shadowmap_params(s, map, w, h, has_position, 0u);
     params_ = gpu::Buffer(ctx, sizeof(p), "shadowmap.params");
     params_.upload(&p, sizeof(p));
     cssm_params_ = gpu::Buffer(ctx, sizeof(c), "shadowmap.cssm.params");
     cssm_params_.upload(&c, sizeof(c));
-    for (uint32_t first = 0; first < c.layers; first += c.chunk_layers) {
-      const uint32_t n = std::min(c.chunk_layers, c.layers - first);
-      tables_.emplace_back(ctx, n * layer_bytes,
-                           u.sat ? "shadowmap.cssm.sat" : "shadowmap.cssm.mip");
-      chunk_sizes_.push_back(n);
-    }
-    unused_ = gpu::Buffer(ctx, 16, "shadowmap.cssm.unused");
+    tab_ = gpu::Buffer(ctx, texels * groups * 16u, u.sat ? "shadowmap.cssm.sat" : "shadowmap.cssm.mip");
+    tz_ = gpu::Buffer(ctx, texels * 4u, u.sat ? "shadowmap.cssm.sat_z" : "shadowmap.cssm.mip_z");
+    if (u.sat)
+      scan_.emplace(ctx);
+    else
+      mip_.emplace(ctx, "shadows.cssm.mip", isg_spv_shadowmap_cssm_mip,
+                   std::vector<gpu::Slot>(3, gpu::Slot::buffer), sizeof(shaders::CssmPush),
+                   CSSM_LOCAL, CSSM_LOCAL);
     stats_ = zeroed_stats(ctx);
   }
 
@@ -481,45 +488,40 @@ class Cssm final : public ShadowmapMethod {
               const gpu::Buffer& hard, const gpu::Buffer& map, const gpu::Buffer& soft,
               const std::string& label) override {
     const auto& c = cparams_;
-    auto with_tables = [&](std::vector<gpu::Binding> b) {
-      for (size_t k = 0; k < CSSM_CHUNKS; ++k)
-        b.push_back(gpu::Binding::of(k < tables_.size() ? tables_[k] : unused_));
-      return b;
-    };
     shaders::CssmPush bp{map_w_, map_h_, 0u, 0u};
-    seq.dispatch(basis_, with_tables({gpu::Binding::of(cssm_params_), gpu::Binding::of(map)}), bp,
-                 c.level_w[0], c.level_h[0], label + ".basis");
-    if (c.prefilter == CSSM_FILTER_SAT) {
-      for (size_t k = 0; k < tables_.size(); ++k)
-        sat_.record_scan(seq, tables_[k], c.level_w[0], c.level_h[0], chunk_sizes_[k], label + ".sat");
+    seq.dispatch(basis_,
+                 {gpu::Binding::of(cssm_params_), gpu::Binding::of(map), gpu::Binding::of(tab_),
+                  gpu::Binding::of(tz_)},
+                 bp, c.level_w[0], c.level_h[0], label + ".basis");
+    if (scan_) {
+      scan_->record(seq, tab_, c.level_w[0], c.level_h[0], 4u * c.groups, label + ".sat");
+      scan_->record(seq, tz_, c.level_w[0], c.level_h[0], 1u, label + ".sat_z");
     } else {
       for (uint32_t l = 1; l < c.levels; ++l) {
         shaders::CssmPush mp{c.level_w[l], c.level_h[l], l, 0u};
-        seq.dispatch(mip_, with_tables({gpu::Binding::of(cssm_params_)}), mp, c.level_w[l],
-                     c.level_h[l] * c.layers, label + ".mip");
+        seq.dispatch(*mip_,
+                     {gpu::Binding::of(cssm_params_), gpu::Binding::of(tab_), gpu::Binding::of(tz_)},
+                     mp, c.level_w[l] * (c.groups + 1u), c.level_h[l], label + ".mip");
       }
     }
     shaders::ShadowmapPush pc{w_, h_};
-    seq.dispatch(
-        shade_,
-        with_tables({gpu::Binding::of(params_), gpu::Binding::of(cssm_params_),
-                     gpu::Binding::of(geo), gpu::Binding::of(fg), gpu::Binding::of(hard),
-                     gpu::Binding::of(map), gpu::Binding::of(soft), gpu::Binding::of(stats_)}),
-        pc, w_, h_, label);
+    seq.dispatch(shade_,
+                 {gpu::Binding::of(params_), gpu::Binding::of(cssm_params_), gpu::Binding::of(geo),
+                  gpu::Binding::of(fg), gpu::Binding::of(hard), gpu::Binding::of(map),
+                  gpu::Binding::of(soft), gpu::Binding::of(stats_), gpu::Binding::of(tab_),
+                  gpu::Binding::of(tz_)},
+                 pc, w_, h_, label);
   }
   ShadowmapStats stats() const override { return read_stats(stats_); }
   uint64_t gpu_bytes() const override {
-    uint64_t b = params_.size() + cssm_params_.size() + unused_.size() + stats_.size();
-    for (const auto& t : tables_) b += t.size();
-    return b;
+    return params_.size() + cssm_params_.size() + stats_.size() + tab_.size() + tz_.size();
   }
 
  private:
-  gpu::Kernel basis_, mip_, shade_;
-  SatPass sat_;
-  gpu::Buffer params_, cssm_params_, unused_, stats_;
-  std::vector<gpu::Buffer> tables_;  // the basis layers, chunk_layers a buffer
-  std::vector<uint32_t> chunk_sizes_;
+  gpu::Kernel basis_, shade_;
+  std::optional<gpu::Kernel> mip_;  // the mipmap filter's
+  std::optional<SatScan32> scan_;   // the SAT filter's
+  gpu::Buffer params_, cssm_params_, stats_, tab_, tz_;
   shaders::CssmParams cparams_{};
   uint32_t w_, h_, map_w_, map_h_;
 };

@@ -2,9 +2,11 @@
 
 #include <algorithm>
 #include <cmath>
+#include <string>
 
 #include "isg/shaders/sat_quantize.spv.h"
 #include "isg/shaders/sat_scan.spv.h"
+#include "isg/shaders/sat_scan32.spv.h"
 #include "sat_io.h"
 
 namespace isg::effects {
@@ -58,23 +60,33 @@ SatPass::SatPass(gpu::Context& ctx)
             SAT_LINES, 1) {}
 
 void SatPass::record(gpu::Sequence& seq, const gpu::Buffer& map, const gpu::Buffer& sat,
-                     uint32_t w, uint32_t h, const SatFixedPoint& fp, const std::string& label) {
-  shaders::SatPush pc{w, h, 0u, uint32_t(fp.power), float(fp.offset), float(fp.scale),
-                      float(std::min(fp.far_z, 1e30)), float(fp.shift)};
-  seq.dispatch(quantize_, {gpu::Binding::of(map), gpu::Binding::of(sat)}, pc, w, h,
-               label + ".quantize");
-  seq.dispatch(scan_, {gpu::Binding::of(sat)}, pc, h, 1, label + ".rows");  // a lane a line
+                     uint32_t w, uint32_t h, const std::vector<SatFixedPoint>& fps,
+                     const std::string& label) {
+  const auto tables = uint32_t(fps.size());
+  for (uint32_t t = 0; t < tables; ++t) {
+    const auto& fp = fps[t];
+    shaders::SatPush pc{w, h, 0u, uint32_t(fp.power), float(fp.offset), float(fp.scale),
+                        float(std::min(fp.far_z, 1e30)), float(fp.shift), tables, t};
+    seq.dispatch(quantize_, {gpu::Binding::of(map), gpu::Binding::of(sat)}, pc, w, h,
+                 label + ".quantize" + (tables > 1 ? std::to_string(t + 1) : ""));
+  }
+  // One invocation a line; the second dispatch dimension walks the interleaved tables.
+  shaders::SatPush pc{w, h, 0u, 1u, 0.0f, 1.0f, 1e30f, 0.0f, tables, 0u};
+  seq.dispatch(scan_, {gpu::Binding::of(sat)}, pc, h, tables, label + ".rows");
   pc.axis = 1u;
-  seq.dispatch(scan_, {gpu::Binding::of(sat)}, pc, w, 1, label + ".columns");
+  seq.dispatch(scan_, {gpu::Binding::of(sat)}, pc, w, tables, label + ".columns");
 }
 
-void SatPass::record_scan(gpu::Sequence& seq, const gpu::Buffer& sat, uint32_t w, uint32_t h,
-                          uint32_t layers, const std::string& label) {
-  shaders::SatPush pc{w, h, 0u, 1u, 0.0f, 1.0f, 1e30f, 0.0f};
-  // One invocation a line; the second dispatch dimension walks the stacked tables.
-  seq.dispatch(scan_, {gpu::Binding::of(sat)}, pc, h, layers, label + ".rows");
+SatScan32::SatScan32(gpu::Context& ctx)
+    : scan_(ctx, "sat.scan32", isg_spv_sat_scan32, {gpu::Slot::buffer}, sizeof(shaders::SatPush),
+            SAT_LINES, 1) {}
+
+void SatScan32::record(gpu::Sequence& seq, const gpu::Buffer& sat, uint32_t w, uint32_t h,
+                       uint32_t words, const std::string& label) {
+  shaders::SatPush pc{w, h, 0u, 1u, 0.0f, 1.0f, 1e30f, 0.0f, words, 0u};
+  seq.dispatch(scan_, {gpu::Binding::of(sat)}, pc, h * words, 1, label + ".rows");
   pc.axis = 1u;
-  seq.dispatch(scan_, {gpu::Binding::of(sat)}, pc, w, layers, label + ".columns");
+  seq.dispatch(scan_, {gpu::Binding::of(sat)}, pc, w * words, 1, label + ".columns");
 }
 
 }  // namespace isg::effects

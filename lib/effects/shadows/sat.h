@@ -33,16 +33,26 @@ int64_t sat_quantize(float z, const SatFixedPoint& fp);
 double sat_rect_sum(const std::vector<int64_t>& sat, int w, int x0, int y0, int x1, int y1,
                     const SatFixedPoint& fp);
 
+// In-place SATs of 32-bit integers in wrapping arithmetic (shaders/sat_scan32.comp): w x h
+// entries of `words` interleaved uints (CSSM's basis images, shadowmap_cssm_io.h).
+class SatScan32 {
+ public:
+  explicit SatScan32(gpu::Context& ctx);
+  void record(gpu::Sequence& seq, const gpu::Buffer& sat, uint32_t w, uint32_t h, uint32_t words,
+              const std::string& label);
+
+ private:
+  gpu::Kernel scan_;
+};
+
 class SatPass {
  public:
   explicit SatPass(gpu::Context& ctx);
-  // Records quantize, row scan and column scan: `sat` (w·h·8 bytes) from `map` (w·h floats).
+  // Records quantize, row scan and column scan: `sat` (w·h·8 bytes a table) from `map` (w·h
+  // floats), one table per fixed point, interleaved entry by entry (sat_io.h: entry i of table
+  // t at i·tables + t, so one 16-byte texel holds two tables' entries).
   void record(gpu::Sequence& seq, const gpu::Buffer& map, const gpu::Buffer& sat, uint32_t w,
-              uint32_t h, const SatFixedPoint& fp, const std::string& label);
-  // Records the row and column scans only, in place, over `layers` w x h tables stored one
-  // after the other in `sat` (entries already quantized, e.g. by a method's own kernel).
-  void record_scan(gpu::Sequence& seq, const gpu::Buffer& sat, uint32_t w, uint32_t h,
-                   uint32_t layers, const std::string& label);
+              uint32_t h, const std::vector<SatFixedPoint>& fps, const std::string& label);
 
  private:
   gpu::Kernel quantize_, scan_;

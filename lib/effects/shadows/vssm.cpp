@@ -375,10 +375,10 @@ class Vssm final : public detail::ShadowmapMethod {
                                     : std::span<const uint32_t>(isg_spv_shadowmap_vssm),
                  {gpu::Slot::buffer, gpu::Slot::texels, gpu::Slot::texels, gpu::Slot::texels,
                   gpu::Slot::texels, gpu::Slot::buffer, gpu::Slot::texels, gpu::Slot::texels,
-                  gpu::Slot::texels, gpu::Slot::buffer, gpu::Slot::buffer},
+                  gpu::Slot::buffer, gpu::Slot::buffer},
                  sizeof(shaders::ShadowmapPush),
                  SHADOWMAP_LOCAL, SHADOWMAP_LOCAL),
-        sat_(ctx), v_(vssm_setup(map)), w_(w), h_(h), mw_(uint32_t(map.width)),
+        sat_pass_(ctx), v_(vssm_setup(map)), w_(w), h_(h), mw_(uint32_t(map.width)),
         mh_(uint32_t(map.height)) {
     const auto p = shadowmap_params(s, map, w, h, has_position, 0u);
     params_ = gpu::Buffer(ctx, sizeof(p), "vssm.params");
@@ -389,8 +389,7 @@ class Vssm final : public detail::ShadowmapMethod {
     const size_t texels = map.z.size();
     const size_t base = v_.level_off.size() > 1 ? v_.level_off[1] : 0;
     hsm_ = gpu::Buffer(ctx, std::max<size_t>(v_.hsm_texels - base, 1) * 8, "vssm.hsm");
-    sat1_ = gpu::Buffer(ctx, texels * 8, "vssm.sat_z");
-    sat2_ = gpu::Buffer(ctx, texels * 8, "vssm.sat_z2");
+    sat_ = gpu::Buffer(ctx, texels * 16, "vssm.sat");  // z and (z − z0)², interleaved
     stats_ = detail::zeroed_stats(ctx);
   }
   void record(gpu::Sequence& seq, const gpu::Buffer& geo, const gpu::Buffer& fg,
@@ -412,29 +411,27 @@ class Vssm final : public detail::ShadowmapMethod {
       seq.dispatch(hsm_k_, {gpu::Binding::of(map), gpu::Binding::of(hsm_)}, hp, hp.dst_w, hp.dst_h,
                    label + ".hsm" + std::to_string(L));
     }
-    sat_.record(seq, map, sat1_, mw_, mh_, v_.f1, label + ".sat_z");
-    sat_.record(seq, map, sat2_, mw_, mh_, v_.f2, label + ".sat_z2");
+    sat_pass_.record(seq, map, sat_, mw_, mh_, {v_.f1, v_.f2}, label + ".sat");
     shaders::ShadowmapPush pc{w_, h_};
     seq.dispatch(shade_k_,
                  {gpu::Binding::of(params_), gpu::Binding::floats(geo), gpu::Binding::floats(fg),
                   gpu::Binding::floats(hard), gpu::Binding::floats(map), gpu::Binding::of(vparams_),
                   gpu::Binding::texels(hsm_, VK_FORMAT_R32G32_SFLOAT),
-                  gpu::Binding::texels(sat1_, VK_FORMAT_R32G32_UINT),
-                  gpu::Binding::texels(sat2_, VK_FORMAT_R32G32_UINT), gpu::Binding::of(soft),
+                  gpu::Binding::texels(sat_, VK_FORMAT_R32G32B32A32_UINT), gpu::Binding::of(soft),
                   gpu::Binding::of(stats_)},
                  pc, w_, h_, label);
   }
   ShadowmapStats stats() const override { return detail::read_stats(stats_); }
   uint64_t gpu_bytes() const override {
-    return params_.size() + vparams_.size() + hsm_.size() + sat1_.size() + sat2_.size() +
+    return params_.size() + vparams_.size() + hsm_.size() + sat_.size() +
            stats_.size();
   }
 
  private:
   gpu::Kernel hsm_k_, shade_k_;
-  SatPass sat_;
+  SatPass sat_pass_;
   VssmSetup v_;
-  gpu::Buffer params_, vparams_, hsm_, sat1_, sat2_, stats_;
+  gpu::Buffer params_, vparams_, hsm_, sat_, stats_;
   uint32_t w_, h_, mw_, mh_;
 };
 }  // namespace
