@@ -28,8 +28,12 @@ layout(push_constant) uniform Push { ShadowmapPush pc; };
 // gather got faster.
 layout(std430, binding = 8) readonly buffer Tab { uvec4 tab[]; };  // shadowmap_cssm_io.h
 layout(std430, binding = 9) readonly buffer Tz { uint tz[]; };
+layout(std430, binding = 10) readonly buffer Hsm { vec2 hsm[]; };
 #define SHADOWMAP_STORAGE_BUFFERS
 #include "shadowmap_common.h"
+#define SM_HSM c.hsm
+vec2 sm_hsm_texel(uint i) { return hsm[i]; }
+#include "shadowmap_hsm.h"
 #include "shadowmap_cssm_common.h"
 
 // A box kernel of half-width h texels about q, as SAT corners or as mip taps.
@@ -199,6 +203,22 @@ void main() {
   // Receiver depth d: the biased receiver-plane threshold at its own texel centre, normalised.
   vec2 cc = floor(q.xy) + 0.5;
   float d = clamp((sm_threshold(q, g, cc, texel_world) - c.zmin) / c.zrange, 0.0, 1.0);
+  // The min-max HSM over PCSS's search region (vssm's test, thesis §7.5.1): where every texel
+  // lies behind the receiver's threshold, or every one in front of it, the pixel is lit or in
+  // umbra with no lookup (cssm.cpp). A receiver beyond the map's farthest surface is tested as
+  // lying on it (the background, clamped to it there, is no blocker; vssm.cpp).
+  {
+    float qz = min(q.z, c.hsm.far_z);
+    float rs = sm_cone_radius(k, p.min_depth, qz, 1.0), r = max(rs, 0.5);
+    vec2 zr = sm_hsm_range(max(q.xy - r, vec2(0.0)), min(q.xy + r, vec2(p.map_w, p.map_h)));
+    float lim = g.w * texel_world * (rs + 1.0) * 1.5;
+    float base = qz - p.bias * texel_world - p.spread_bias * g.z;
+    if (zr.x >= base + lim || zr.y < base - lim) {
+      atomicAdd(stats[SHADOWMAP_STAT_SKIPPED], 1u);
+      soft[i] = sm_input_edges(zr.x >= base + lim ? 1.0 : 0.0, hard[i], 0.0);
+      return;
+    }
+  }
   // The steps, each a lookup over half-width h: the blocker search (Fig. 5.1a: PCSS's disk as a
   // box of the same area, at least one texel) s_f, then CSM-Z over the same box (eq. 5.11) for
   // z_avg (eq. 5.8); the narrowed searches likewise (the search narrowed to the blockers' cone,

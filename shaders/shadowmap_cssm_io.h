@@ -1,6 +1,7 @@
 #ifndef SHADOWMAP_CSSM_IO_H
 #define SHADOWMAP_CSSM_IO_H
 #include "isg_io.h"
+#include "shadowmap_hsm_io.h"
 ISG_IO_BEGIN
 #define CSSM_LOCAL 16
 #define CSSM_MAX_LEVELS 16     // mip levels: maps up to 32768 texels a side
@@ -37,6 +38,7 @@ struct CssmParams {
   uint pad0;
   uint level_w[CSSM_MAX_LEVELS], level_h[CSSM_MAX_LEVELS];
   uint level_off[CSSM_MAX_LEVELS];  // first texel of each mip level (0 for the SAT)
+  HsmLevelsGpu hsm;                 // the min-max HSM's levels (cssm.cpp: lit and umbra proofs)
 };
 // Basis: width, height = the map (the basis, level_w/h[0], is it in blocks); mip: the level
 // built (its size from CssmParams).

@@ -1,6 +1,6 @@
 #version 450
 #extension GL_GOOGLE_include_directive : require
-#include "shadowmap_vssm_io.h"
+#include "shadowmap_hsm_io.h"
 // Min-max hierarchical shadow map (thesis §7.5.1, mipmap variant): level 0 is the map (z
 // clamped to far_z, not stored); each level above holds the min and max of the up to 2x2
 // texels below (from_map: level 1, from the map itself).

@@ -50,25 +50,9 @@ layout(std430, binding = 9) buffer Stats { uint stats[]; };
 layout(push_constant) uniform Push { ShadowmapPush pc; };
 #include "shadowmap_common.h"
 
-// Min and max depth over the texels a rectangle [lo, hi) touches: the HSM level whose texels
-// are at least as large as it, where it spans at most 2x2 of them.
-vec2 hsm_range(vec2 flo, vec2 fhi) {
-  ivec2 lo = ivec2(floor(flo)), hi = max(ivec2(ceil(fhi)), lo + 1);
-  int size = max(hi.x - lo.x, hi.y - lo.y);
-  uint L = 0u;
-  while ((1 << L) < size && L + 1u < v.levels) ++L;
-  // At most 2 x 2 texels of level L; a fixed 2 x 2 (the second column or row repeating the
-  // first where the span has one), so the loop unrolls.
-  ivec2 a = lo >> L, b = (hi - 1) >> L;
-  vec2 r = vec2(1e30, -1e30);
-  [[unroll]] for (int k = 0; k < 4; ++k) {
-    int x = (k & 1) != 0 ? b.x : a.x, y = (k & 2) != 0 ? b.y : a.y;
-    vec2 c = L == 0u ? vec2(min(texelFetch(smap, int(uint(y) * p.map_w + uint(x))).r, v.far_z))
-                     : texelFetch(hsm, int(v.level_off[L] + uint(y) * v.level_w[L] + uint(x))).xy;
-    r = vec2(min(r.x, c.x), max(r.y, c.y));
-  }
-  return r;
-}
+#define SM_HSM v.hsm
+vec2 sm_hsm_texel(uint i) { return texelFetch(hsm, int(i)).xy; }
+#include "shadowmap_hsm.h"
 
 uvec2 sub64(uvec2 a, uvec2 b) {
   uint borrow;
@@ -197,7 +181,7 @@ float chebyshev(float mu, float var, float t) {
 
 // The HSM's verdict on a sub-kernel: 1 all lit, -1 all blocked, 0 neither.
 int hsm_verdict(vec3 q, vec4 g, vec2 lo, vec2 hi, float tw) {
-  vec2 zr = hsm_range(lo, hi), tr = sm_threshold_range(q, g, lo, hi, tw);
+  vec2 zr = sm_hsm_range(lo, hi), tr = sm_threshold_range(q, g, lo, hi, tw);
   return zr.x >= tr.y ? 1 : (zr.y < tr.x ? -1 : 0);
 }
 
@@ -263,7 +247,7 @@ void main() {
   // A receiver beyond the map's farthest surface (far_z, where the background stands in the
   // SATs and the HSM) is shaded as lying on it: else the background would block it (vssm.cpp).
   float h_in = texelFetch(hard, int(i)).r;
-  q.z = min(q.z, v.far_z);
+  q.z = min(q.z, v.hsm.far_z);
   float tw = 2.0 * q.z * p.tan_y / float(p.map_h);
   float k = p.light_radius * float(p.map_h) / (2.0 * p.tan_y);
   float rs = sm_cone_radius(k, p.min_depth, q.z, 1.0);
@@ -275,7 +259,7 @@ void main() {
   // take the receiver's own depth (z_unocc = t), where they are exact for two planes.
   float unbias = p.bias * tw + p.spread_bias * g.z;
   float base = q.z - p.bias * tw - p.spread_bias * g.z;
-  vec2 zr = hsm_range(a, b);
+  vec2 zr = sm_hsm_range(a, b);
   if (zr.x >= base + lim) { atomicAdd(stats[SHADOWMAP_STAT_SKIPPED], 1u); soft[i] = sm_input_edges(1.0, h_in, 0.0); return; }
   if (zr.y < base - lim) { atomicAdd(stats[SHADOWMAP_STAT_SKIPPED], 1u); soft[i] = sm_input_edges(0.0, h_in, 0.0); return; }
 

@@ -67,6 +67,7 @@
 #include <stdexcept>
 #include <string>
 
+#include "effects/shadows/hsm.h"
 #include "effects/shadows/method.h"
 #include "effects/shadows/sat.h"
 #include "isg/shaders/shadowmap_cssm.spv.h"
@@ -314,6 +315,8 @@ std::vector<float> cssm_reference(const ShadowmapInputs& in, const ShadowmapData
   Geom G(in, map, s);
   const Setup u = make_setup(map, s);
   const Prefiltered pf(map, u);
+  const detail::HsmLevels hsm_levels = detail::hsm_levels(map);
+  const detail::HsmRef hsm(map, hsm_levels);
   const int M = u.M;
   ShadowmapStats st;
   const double k = s.light_radius * map.height / (2.0 * G.tan_y);
@@ -367,6 +370,20 @@ std::vector<float> cssm_reference(const ShadowmapInputs& in, const ShadowmapData
       return area > 0 ? sum / area : lookup(q[0], q[1], h, h, d, csm_z);
     };
     auto visibility = [&](double h) { return filtered(h, false); };
+    // The min-max HSM over PCSS's search region (see the top of the file).
+    {
+      const double qz = std::min(q[2], hsm_levels.far_z);
+      const double rs = Geom::cone_radius(k, map.min_depth, qz, 1.0, s.max_radius);
+      const double r = std::max(rs, 0.5);
+      const auto zr = hsm.range({std::max(q[0] - r, 0.0), std::max(q[1] - r, 0.0)},
+                                {std::min(q[0] + r, double(map.width)), std::min(q[1] + r, double(map.height))});
+      const double lim = g[3] * texel_world * (rs + 1.0) * 1.5;
+      const double base = qz - s.bias * texel_world - s.spread_bias * g[2];
+      if (zr[0] >= base + lim || zr[1] < base - lim) {
+        ++st.skipped;
+        return {zr[0] >= base + lim ? 1.0 : 0.0, 0.0};
+      }
+    }
     // Blocker search (Fig. 5.1a): the PCSS region as a box of the same area.
     double hs = Geom::cone_box(k, map.min_depth, q[2], 1.0, s.max_radius);
     const double sf = visibility(hs);
@@ -420,8 +437,10 @@ class Cssm final : public ShadowmapMethod {
                std::vector<gpu::Slot>(4, gpu::Slot::buffer), sizeof(shaders::CssmPush),
                CSSM_LOCAL, CSSM_LOCAL),
         shade_(ctx, "shadows.cssm", isg_spv_shadowmap_cssm,
-               std::vector<gpu::Slot>(10, gpu::Slot::buffer), sizeof(shaders::ShadowmapPush),
+               std::vector<gpu::Slot>(11, gpu::Slot::buffer), sizeof(shaders::ShadowmapPush),
                SHADOWMAP_LOCAL, SHADOWMAP_LOCAL),
+        hsm_levels_(detail::hsm_levels(map)),
+        hsm_(ctx, hsm_levels_),
         w_(w),
         h_(h),
         map_w_(uint32_t(map.width)),
@@ -460,6 +479,7 @@ class Cssm final : public ShadowmapMethod {
     c.sharpen_a = float(s.cssm_a);
     c.sharpen_b = float(s.cssm_b);
     c.sat_scale = float(sat_scale(u, s));
+    c.hsm = hsm_levels_gpu(hsm_levels_);
     uint64_t texels = 0;
     for (size_t l = 0; l < L.w.size(); ++l) {
       c.level_w[l] = uint32_t(L.w[l]);
@@ -488,6 +508,7 @@ class Cssm final : public ShadowmapMethod {
               const gpu::Buffer& hard, const gpu::Buffer& map, const gpu::Buffer& soft,
               const std::string& label) override {
     const auto& c = cparams_;
+    hsm_.record(seq, map, label);
     shaders::CssmPush bp{map_w_, map_h_, 0u, 0u};
     seq.dispatch(basis_,
                  {gpu::Binding::of(cssm_params_), gpu::Binding::of(map), gpu::Binding::of(tab_),
@@ -509,16 +530,19 @@ class Cssm final : public ShadowmapMethod {
                  {gpu::Binding::of(params_), gpu::Binding::of(cssm_params_), gpu::Binding::of(geo),
                   gpu::Binding::of(fg), gpu::Binding::of(hard), gpu::Binding::of(map),
                   gpu::Binding::of(soft), gpu::Binding::of(stats_), gpu::Binding::of(tab_),
-                  gpu::Binding::of(tz_)},
+                  gpu::Binding::of(tz_), gpu::Binding::of(hsm_.buffer())},
                  pc, w_, h_, label);
   }
   ShadowmapStats stats() const override { return read_stats(stats_); }
   uint64_t gpu_bytes() const override {
-    return params_.size() + cssm_params_.size() + stats_.size() + tab_.size() + tz_.size();
+    return params_.size() + cssm_params_.size() + stats_.size() + tab_.size() + tz_.size() +
+           hsm_.buffer().size();
   }
 
  private:
   gpu::Kernel basis_, shade_;
+  HsmLevels hsm_levels_;
+  HsmPass hsm_;
   std::optional<gpu::Kernel> mip_;  // the mipmap filter's
   std::optional<SatScan32> scan_;   // the SAT filter's
   gpu::Buffer params_, cssm_params_, stats_, tab_, tz_;

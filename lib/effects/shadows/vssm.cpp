@@ -6,9 +6,9 @@
 #include <cmath>
 #include <stdexcept>
 
+#include "effects/shadows/hsm.h"
 #include "effects/shadows/method.h"
 #include "effects/shadows/sat.h"
-#include "isg/shaders/shadowmap_hsm.spv.h"
 #include "isg/shaders/shadowmap_vssm.spv.h"
 #include "isg/shaders/shadowmap_vssm64.spv.h"
 #include "shadowmap_io.h"
@@ -27,32 +27,18 @@ using detail::V3;
 struct VssmSetup {
   double far_z = 0, z0 = 0;
   SatFixedPoint f1, f2;  // the SATs of z and (z − z0)²
-  std::vector<int> level_w, level_h;
-  std::vector<size_t> level_off;
-  size_t hsm_texels = 0;
+  detail::HsmLevels hsm;
 };
 
 VssmSetup vssm_setup(const ShadowmapData& map) {
   VssmSetup v;
-  double far = 0, sum = 0;
-  for (float z : map.z)
-    if (z > 0.0f && z < ISG_BACKGROUND_DEPTH) far = std::max(far, double(z));
-  if (far <= 0) far = 1.0;
-  v.far_z = double(float(far));
+  v.hsm = detail::hsm_levels(map);
+  v.far_z = v.hsm.far_z;
+  double sum = 0;
   for (float z : map.z) sum += std::min(double(z), v.far_z);
   v.z0 = double(float(map.z.empty() ? 0.0 : sum / double(map.z.size())));
   v.f1 = sat_fixed_point(map.z, 1, v.far_z);
   v.f2 = sat_fixed_point(map.z, 2, v.far_z, v.z0);
-  int w = map.width, h = map.height;
-  for (;;) {
-    v.level_off.push_back(v.hsm_texels);
-    v.level_w.push_back(w);
-    v.level_h.push_back(h);
-    v.hsm_texels += size_t(w) * size_t(h);
-    if ((w == 1 && h == 1) || int(v.level_w.size()) == VSSM_MAX_LEVELS) break;
-    w = (w + 1) / 2;
-    h = (h + 1) / 2;
-  }
   return v;
 }
 
@@ -65,31 +51,16 @@ struct VssmRef {
   const Geom& G;
   const ShadowmapSettings& s;
   VssmSetup v;
-  std::vector<std::array<float, 2>> hsm;
+  detail::HsmRef hsm;
   std::vector<double> s1, s2;  // (w+1) x (h+1) prefix sums of z and (z − z0)²
   int W, Hh, grid;
   double flat, contact;
 
   VssmRef(const Geom& g, const ShadowmapSettings& st)
-      : G(g), s(st), v(vssm_setup(g.map)), W(g.map.width), Hh(g.map.height), grid(leaf_grid(st)) {
+      : G(g), s(st), v(vssm_setup(g.map)), hsm(g.map, v.hsm), W(g.map.width), Hh(g.map.height),
+        grid(leaf_grid(st)) {
     flat = s.vssm_flat * s.scene_radius;
     contact = s.vssm_contact * s.scene_radius;
-    hsm.resize(v.hsm_texels);
-    for (size_t i = 0; i < G.map.z.size(); ++i) {
-      float z = std::min(G.map.z[i], float(v.far_z));
-      hsm[i] = {z, z};
-    }
-    for (size_t L = 1; L < v.level_w.size(); ++L)
-      for (int y = 0; y < v.level_h[L]; ++y)
-        for (int x = 0; x < v.level_w[L]; ++x) {
-          std::array<float, 2> r{1e30f, -1e30f};
-          for (int yy = 2 * y; yy < std::min(2 * y + 2, v.level_h[L - 1]); ++yy)
-            for (int xx = 2 * x; xx < std::min(2 * x + 2, v.level_w[L - 1]); ++xx) {
-              const auto& c = hsm[v.level_off[L - 1] + size_t(yy) * v.level_w[L - 1] + xx];
-              r = {std::min(r[0], c[0]), std::max(r[1], c[1])};
-            }
-          hsm[v.level_off[L] + size_t(y) * v.level_w[L] + x] = r;
-        }
     // The SATs of z and (z − z0)² as the GPU builds them: each texel's fixed-point integer
     // (sat_quantize, float arithmetic as in the shader), worth q / scale + offset.
     s1.assign(size_t(W + 1) * (Hh + 1), 0.0);
@@ -107,20 +78,7 @@ struct VssmRef {
   }
 
   using F2 = std::array<double, 2>;
-  std::array<double, 2> hsm_range(F2 flo, F2 fhi) const {
-    const int lx = int(std::floor(flo[0])), ly = int(std::floor(flo[1]));
-    const int hx = std::max(int(std::ceil(fhi[0])), lx + 1), hy = std::max(int(std::ceil(fhi[1])), ly + 1);
-    const int size = std::max(hx - lx, hy - ly);
-    size_t L = 0;
-    while ((1 << L) < size && L + 1 < v.level_w.size()) ++L;
-    std::array<double, 2> r{1e30, -1e30};
-    for (int y = ly >> L; y <= (hy - 1) >> L; ++y)
-      for (int x = lx >> L; x <= (hx - 1) >> L; ++x) {
-        const auto& c = hsm[v.level_off[L] + size_t(y) * v.level_w[L] + x];
-        r = {std::min(r[0], double(c[0])), std::max(r[1], double(c[1]))};
-      }
-    return r;
-  }
+  std::array<double, 2> hsm_range(F2 flo, F2 fhi) const { return hsm.range(flo, fhi); }
   // Σ over texels of (covered fraction) · value: the box filter of [lo, hi) on the texel grid.
   double box_sum(const std::vector<double>& t, F2 lo, F2 hi) const {
     auto R = [&](int x, int y) { return t[size_t(y) * (W + 1) + x]; };
@@ -343,23 +301,15 @@ shaders::VssmParams vssm_params(const ShadowmapSettings& s, const VssmSetup& v) 
   p.m = uint32_t(s.vssm_m);
   p.tree_h = uint32_t(s.vssm_h);
   p.leaf_grid = uint32_t(leaf_grid(s));
-  p.levels = uint32_t(v.level_w.size());
   p.flat_var = float(s.vssm_flat * s.scene_radius);
   p.contact = float(s.vssm_contact * s.scene_radius);
-  p.far_z = float(v.far_z);
   p.z0 = float(v.z0);
   p.off1 = float(v.f1.offset);
   p.scale1 = float(v.f1.scale);
   p.off2 = float(v.f2.offset);
   p.scale2 = float(v.f2.scale);
   p.narrow = uint32_t(s.vssm_narrow);
-  // On the GPU level 0 is the map itself (not stored): levels 1... from offset 0.
-  const size_t base = v.level_off.size() > 1 ? v.level_off[1] : 0;
-  for (size_t L = 0; L < v.level_w.size(); ++L) {
-    p.level_off[L] = L == 0 ? 0u : uint32_t(v.level_off[L] - base);
-    p.level_w[L] = uint32_t(v.level_w[L]);
-    p.level_h[L] = uint32_t(v.level_h[L]);
-  }
+  p.hsm = detail::hsm_levels_gpu(v.hsm);
   return p;
 }
 
@@ -367,8 +317,8 @@ class Vssm final : public detail::ShadowmapMethod {
  public:
   Vssm(gpu::Context& ctx, const ShadowmapSettings& s, const ShadowmapData& map, uint32_t w,
        uint32_t h, bool has_position)
-      : hsm_k_(ctx, "shadows.vssm.hsm", isg_spv_shadowmap_hsm, {gpu::Slot::buffer, gpu::Slot::buffer},
-               sizeof(shaders::HsmPush), HSM_LOCAL, HSM_LOCAL),
+      : v_(vssm_setup(map)),
+        hsm_(ctx, v_.hsm),
         // The moments in double where the device can (shadowmap_vssm.glsl's VSSM_REAL).
         shade_k_(ctx, "shadows.vssm",
                  ctx.info().float64 ? std::span<const uint32_t>(isg_spv_shadowmap_vssm64)
@@ -378,7 +328,7 @@ class Vssm final : public detail::ShadowmapMethod {
                   gpu::Slot::buffer, gpu::Slot::buffer},
                  sizeof(shaders::ShadowmapPush),
                  SHADOWMAP_LOCAL, SHADOWMAP_LOCAL),
-        sat_pass_(ctx), v_(vssm_setup(map)), w_(w), h_(h), mw_(uint32_t(map.width)),
+        sat_pass_(ctx), w_(w), h_(h), mw_(uint32_t(map.width)),
         mh_(uint32_t(map.height)) {
     const auto p = shadowmap_params(s, map, w, h, has_position, 0u);
     params_ = gpu::Buffer(ctx, sizeof(p), "vssm.params");
@@ -387,51 +337,36 @@ class Vssm final : public detail::ShadowmapMethod {
     vparams_ = gpu::Buffer(ctx, sizeof(vp), "vssm.vparams");
     vparams_.upload(&vp, sizeof(vp));
     const size_t texels = map.z.size();
-    const size_t base = v_.level_off.size() > 1 ? v_.level_off[1] : 0;
-    hsm_ = gpu::Buffer(ctx, std::max<size_t>(v_.hsm_texels - base, 1) * 8, "vssm.hsm");
     sat_ = gpu::Buffer(ctx, texels * 16, "vssm.sat");  // z and (z − z0)², interleaved
     stats_ = detail::zeroed_stats(ctx);
   }
   void record(gpu::Sequence& seq, const gpu::Buffer& geo, const gpu::Buffer& fg,
               const gpu::Buffer& hard, const gpu::Buffer& map, const gpu::Buffer& soft,
               const std::string& label) override {
-    // Min-max HSM, level by level (thesis §7.5.1); level 0 is the map itself (clamped to
-    // far_z where read), level 1 is built from it.
-    const size_t base = v_.level_off.size() > 1 ? v_.level_off[1] : 0;
-    for (size_t L = 1; L < v_.level_w.size(); ++L) {
-      shaders::HsmPush hp{};
-      hp.dst_off = uint32_t(v_.level_off[L] - base);
-      hp.dst_w = uint32_t(v_.level_w[L]);
-      hp.dst_h = uint32_t(v_.level_h[L]);
-      hp.from_map = L == 1 ? 1u : 0u;
-      hp.far_z = float(v_.far_z);
-      hp.src_off = L == 1 ? 0u : uint32_t(v_.level_off[L - 1] - base);
-      hp.src_w = uint32_t(v_.level_w[L - 1]);
-      hp.src_h = uint32_t(v_.level_h[L - 1]);
-      seq.dispatch(hsm_k_, {gpu::Binding::of(map), gpu::Binding::of(hsm_)}, hp, hp.dst_w, hp.dst_h,
-                   label + ".hsm" + std::to_string(L));
-    }
+    // Min-max HSM, level by level (thesis §7.5.1); level 0 is the map itself.
+    hsm_.record(seq, map, label);
     sat_pass_.record(seq, map, sat_, mw_, mh_, {v_.f1, v_.f2}, label + ".sat");
     shaders::ShadowmapPush pc{w_, h_};
     seq.dispatch(shade_k_,
                  {gpu::Binding::of(params_), gpu::Binding::floats(geo), gpu::Binding::floats(fg),
                   gpu::Binding::floats(hard), gpu::Binding::floats(map), gpu::Binding::of(vparams_),
-                  gpu::Binding::texels(hsm_, VK_FORMAT_R32G32_SFLOAT),
+                  gpu::Binding::texels(hsm_.buffer(), VK_FORMAT_R32G32_SFLOAT),
                   gpu::Binding::texels(sat_, VK_FORMAT_R32G32B32A32_UINT), gpu::Binding::of(soft),
                   gpu::Binding::of(stats_)},
                  pc, w_, h_, label);
   }
   ShadowmapStats stats() const override { return detail::read_stats(stats_); }
   uint64_t gpu_bytes() const override {
-    return params_.size() + vparams_.size() + hsm_.size() + sat_.size() +
+    return params_.size() + vparams_.size() + hsm_.buffer().size() + sat_.size() +
            stats_.size();
   }
 
  private:
-  gpu::Kernel hsm_k_, shade_k_;
-  SatPass sat_pass_;
   VssmSetup v_;
-  gpu::Buffer params_, vparams_, hsm_, sat_, stats_;
+  detail::HsmPass hsm_;
+  gpu::Kernel shade_k_;
+  SatPass sat_pass_;
+  gpu::Buffer params_, vparams_, sat_, stats_;
   uint32_t w_, h_, mw_, mh_;
 };
 }  // namespace
