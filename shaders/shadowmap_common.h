@@ -191,6 +191,45 @@ float sm_cone_radius(float k, float z, float qz, float margin) {
 float sm_cone_box(float k, float z, float qz, float margin) {
   return max(SM_BOX_OF_DISK * sm_cone_radius(k, z, qz, margin), 0.5);
 }
+// One to statistics word `w` (--timings): reduced over the subgroup's active lanes, one atomic
+// a subgroup (an atomic a pixel, every lane on one word, cost lavapipe 0.28 s at 1080p).
+// Includers that count define SHADOWMAP_COUNTS, enable GL_KHR_shader_subgroup_arithmetic and
+// declare buffer `stats`.
+#ifdef SHADOWMAP_COUNTS
+void sm_count(uint w) {
+  uint n = subgroupAdd(1u);
+  if (subgroupElect()) atomicAdd(stats[w], n);
+}
+#endif
+// Two dispatches of one shader (vssm, cssm), told apart by specialization constant 0, SM_OWN
+// (docs/design.md: llvmpipe runs every lane through all the code there is, masked, so a pixel
+// the cheap test settles must not sit in a SIMD group with one that filters): the first, a lane
+// per pixel, settles what its cheap test can and lists the rest (sm_own_append); the second, a
+// lane per listed pixel, runs the whole method for them. Includers define SHADOWMAP_OWN and
+// declare buffer `own` (SHADOWMAP_OWN_HEAD in shadowmap_io.h).
+#ifdef SHADOWMAP_OWN
+layout(constant_id = 0) const bool SM_OWN = false;
+void sm_own_append(uint i) {
+  uint k = atomicAdd(own[0], 1u);
+  own[SHADOWMAP_OWN_HEAD + k] = i;
+  uint lanes = SHADOWMAP_LOCAL * SHADOWMAP_LOCAL;
+  if (k % (SHADOWMAP_OWN_ROW * lanes) == 0u) atomicAdd(own[2], 1u);
+}
+// The pixel this lane shades (false: none): its own in the first dispatch, the listed one in
+// the second.
+bool sm_pixel_of(out uvec2 px) {
+  if (!SM_OWN) {
+    px = gl_GlobalInvocationID.xy;
+    return px.x < pc.width && px.y < pc.height;
+  }
+  uint k = (gl_WorkGroupID.y * gl_NumWorkGroups.x + gl_WorkGroupID.x) * (SHADOWMAP_LOCAL * SHADOWMAP_LOCAL) +
+           gl_LocalInvocationIndex;
+  if (k >= own[0]) return false;
+  uint i = own[SHADOWMAP_OWN_HEAD + k];
+  px = uvec2(i % pc.width, i / pc.width);
+  return true;
+}
+#endif
 float sm_fetch(vec2 c) {
   return sm_map(uint(c.y) * p.map_w + uint(c.x));
 }

@@ -1,5 +1,7 @@
 #version 450
 #extension GL_GOOGLE_include_directive : require
+#extension GL_KHR_shader_subgroup_arithmetic : require
+#extension GL_KHR_shader_subgroup_basic : require
 #extension GL_EXT_control_flow_attributes : require
 #include "shadowmap_io.h"
 #include "shadowmap_cssm_io.h"
@@ -14,8 +16,12 @@
 // reads four basis images a load. Written as the thesis's steps one after the other, with the
 // lookup inlined at each, LLVM took ten minutes to compile this kernel on lavapipe (issue 51).
 layout(local_size_x = SHADOWMAP_LOCAL, local_size_y = SHADOWMAP_LOCAL) in;
-layout(std430, binding = 0) readonly buffer Prm { ShadowmapParams p; };
-layout(std430, binding = 1) readonly buffer Cprm { CssmParams c; };
+layout(std430, binding = 0) readonly buffer Prm { ShadowmapParams p_in; };
+layout(std430, binding = 1) readonly buffer Cprm { CssmParams c_in; };
+// Copies made once at the top of main: read from the buffers in the lookups' inner loops, the
+// parameters cost lavapipe a load each time (as shadowmap_pcss's p).
+ShadowmapParams p;
+CssmParams c;
 layout(std430, binding = 2) readonly buffer Geo { float geo[]; };
 layout(std430, binding = 3) readonly buffer Fg { float fg_in[]; };
 layout(std430, binding = 4) readonly buffer Hard { float hard[]; };
@@ -29,12 +35,18 @@ layout(push_constant) uniform Push { ShadowmapPush pc; };
 layout(std430, binding = 8) readonly buffer Tab { uvec4 tab[]; };  // shadowmap_cssm_io.h
 layout(std430, binding = 9) readonly buffer Tz { uint tz[]; };
 layout(std430, binding = 10) readonly buffer Hsm { vec2 hsm[]; };
+layout(std430, binding = 11) buffer Own { uint own[]; };
 #define SHADOWMAP_STORAGE_BUFFERS
+#define SHADOWMAP_COUNTS
+#define SHADOWMAP_OWN
 #include "shadowmap_common.h"
 #define SM_HSM c.hsm
 vec2 sm_hsm_texel(uint i) { return hsm[i]; }
 #include "shadowmap_hsm.h"
 #include "shadowmap_cssm_common.h"
+// shadows.cssm_filter, a specialization constant (llvmpipe runs both sides of a branch on a
+// buffer's value, docs/design.md): the mipmap's taps, else the SAT's corners.
+layout(constant_id = 1) const bool CSSM_MIP = false;
 
 // A box kernel of half-width h texels about q, as SAT corners or as mip taps.
 struct Kern {
@@ -47,13 +59,14 @@ struct Kern {
   vec4 w0, w1;    // mip: their weights (the level blend included)
 };
 
-// Block units (the basis's texels): `bound` the map's extent, `n` the basis size.
+// Block units (the basis's texels): `bound` the map's extent, `n` the basis size. The SAT's box
+// snapped to whole texels: edges at the nearest texel boundary, at least one texel wide.
 void kern_axis(float qc, float h, float bound, uint size, out ivec4 X, out vec3 w, out float len) {
   float lo = max(qc - h, 0.0), hi = min(qc + h, bound);
-  float X0 = floor(lo), X1 = floor(hi);
   int n = int(size);
-  X = ivec4(int(X0), min(int(X0) + 1, n), int(X1), min(int(X1) + 1, n));
-  w = vec3(1.0, -(lo - X0), hi - X1);
+  int X0 = clamp(int(floor(lo + 0.5)), 0, n - 1), X1 = clamp(int(floor(hi + 0.5)), X0 + 1, n);
+  X = ivec4(X0, X1, 0, 0);
+  w = vec3(float(X1 - X0), 0.0, 0.0);
   len = hi - lo;
 }
 
@@ -76,15 +89,17 @@ Kern make_kern(vec2 q, vec2 h) {
   h /= f;
   kern_axis(q.x, h.x, float(p.map_w) / f, c.level_w[0], K.X, K.wx, lx);
   kern_axis(q.y, h.y, float(p.map_h) / f, c.level_h[0], K.Y, K.wy, ly);
-  K.inv = 1.0 / (c.sat_scale * lx * ly);
+  K.inv = 1.0 / (c.sat_scale * K.wx.x * K.wy.x);
   K.area = lx > 0.0 && ly > 0.0 ? lx * ly : 0.0;
-  // Mip level whose texel spans the kernel width 2h (of a rectangle, the square of its area);
-  // linear between levels.
-  float lev = clamp(log2(2.0 * (h.x == h.y ? h.x : sqrt(h.x * h.y))), 0.0, float(c.levels - 1u));
-  uint l0 = uint(floor(lev)), l1 = min(l0 + 1u, c.levels - 1u);
-  float t = lev - float(l0);
-  kern_level(q, l0, 1.0 - t, K.b0, K.i0, K.w0);
-  kern_level(q, l1, t, K.b1, K.i1, K.w1);
+  if (CSSM_MIP) {
+    // Mip level whose texel spans the kernel width 2h (of a rectangle, the square of its area);
+    // linear between levels.
+    float lev = clamp(log2(2.0 * (h.x == h.y ? h.x : sqrt(h.x * h.y))), 0.0, float(c.levels - 1u));
+    uint l0 = uint(floor(lev)), l1 = min(l0 + 1u, c.levels - 1u);
+    float t = lev - float(l0);
+    kern_level(q, l0, 1.0 - t, K.b0, K.i0, K.w0);
+    kern_level(q, l1, t, K.b1, K.i1, K.w1);
+  }
   return K;
 }
 
@@ -93,38 +108,33 @@ int sat_texel(int x, int y) { return (x <= 0 || y <= 0) ? -1 : (y - 1) * int(c.l
 uvec4 tab_at(int t, uint j) { return t < 0 ? uvec4(0u) : tab[uint(t) * c.groups + j]; }
 uint tz_at(int t) { return t < 0 ? 0u : tz[uint(t)]; }
 
-// The box average of four basis images (group j of `tab`; the z image in .x where j is
-// c.groups) (eq. 5.3: w * B_i). SAT: the continuous box integral of the texel-constant image,
-// whole spans exactly in the integers (wrapping uint differences), the fractional border cells
-// weighted (9 rectangles of the 4 x 4 corners).
+// The box average of four basis images, group j of `tab` (eq. 5.3: w * B_i). SAT: the box's
+// integral from its four corners in wrapping uint arithmetic, exact; mipmap: two levels'
+// bilinear taps.
 vec4 cssm_box(uint j, Kern K) {
-  bool z = j == c.groups;
-  if (c.prefilter == CSSM_FILTER_SAT) {
-    uvec4 S[16];
-    [[unroll]] for (int a = 0; a < 4; ++a)
-      [[unroll]] for (int b = 0; b < 4; ++b) {
-        int t = sat_texel(K.X[a], K.Y[b]);
-        S[a * 4 + b] = z ? uvec4(tz_at(t), 0u, 0u, 0u) : tab_at(t, j);
-      }
-    const ivec2 span[3] = ivec2[3](ivec2(0, 2), ivec2(0, 1), ivec2(2, 3));
-    vec4 sum = vec4(0.0);
-    [[unroll]] for (int a = 0; a < 3; ++a)
-      [[unroll]] for (int b = 0; b < 3; ++b) {
-        ivec2 sa = span[a], sb = span[b];
-        uvec4 r = (S[sa.y * 4 + sb.y] + S[sa.x * 4 + sb.x]) - (S[sa.x * 4 + sb.y] + S[sa.y * 4 + sb.x]);
-        sum += (K.wx[a] * K.wy[b]) * vec4(ivec4(r));
-      }
-    return sum * K.inv;
+  if (!CSSM_MIP) {
+    int t00 = sat_texel(K.X.x, K.Y.x), t10 = sat_texel(K.X.y, K.Y.x);
+    int t01 = sat_texel(K.X.x, K.Y.y), t11 = sat_texel(K.X.y, K.Y.y);
+    uvec4 r = (tab_at(t11, j) + tab_at(t00, j)) - (tab_at(t10, j) + tab_at(t01, j));
+    return vec4(ivec4(r)) * K.inv;
   }
   uvec4 j0 = K.b0 + K.i0, j1 = K.b1 + K.i1;
-  if (z)
-    return vec4(dot(K.w0, uintBitsToFloat(uvec4(tz[j0.x], tz[j0.y], tz[j0.z], tz[j0.w]))) +
-                dot(K.w1, uintBitsToFloat(uvec4(tz[j1.x], tz[j1.y], tz[j1.z], tz[j1.w]))), 0.0, 0.0, 0.0);
   uint G = c.groups;
   return K.w0.x * uintBitsToFloat(tab[j0.x * G + j]) + K.w0.y * uintBitsToFloat(tab[j0.y * G + j]) +
          K.w0.z * uintBitsToFloat(tab[j0.z * G + j]) + K.w0.w * uintBitsToFloat(tab[j0.w * G + j]) +
          K.w1.x * uintBitsToFloat(tab[j1.x * G + j]) + K.w1.y * uintBitsToFloat(tab[j1.y * G + j]) +
          K.w1.z * uintBitsToFloat(tab[j1.z * G + j]) + K.w1.w * uintBitsToFloat(tab[j1.w * G + j]);
+}
+// The same of the z image.
+float cssm_box_z(Kern K) {
+  if (!CSSM_MIP) {
+    int t00 = sat_texel(K.X.x, K.Y.x), t10 = sat_texel(K.X.y, K.Y.x);
+    int t01 = sat_texel(K.X.x, K.Y.y), t11 = sat_texel(K.X.y, K.Y.y);
+    return float(int((tz_at(t11) + tz_at(t00)) - (tz_at(t10) + tz_at(t01)))) * K.inv;
+  }
+  uvec4 j0 = K.b0 + K.i0, j1 = K.b1 + K.i1;
+  return dot(K.w0, uintBitsToFloat(uvec4(tz[j0.x], tz[j0.y], tz[j0.z], tz[j0.w]))) +
+         dot(K.w1, uintBitsToFloat(uvec4(tz[j1.x], tz[j1.y], tz[j1.z], tz[j1.w])));
 }
 
 // The raw filtered visibility s_f of kernel K against the normalised receiver depth dn (eq. 5.3,
@@ -133,7 +143,7 @@ vec4 cssm_box(uint j, Kern K) {
 // of c_k δ by rotation: e^{iπ(2k+1)δ} = e^{iπδ} (e^{2iπδ})^k.
 float cssm_lookup(Kern K, float dn, bool csm_z) {
   float delta = c.s_z * dn - c.x0;
-  float v = csm_z ? 0.5 * cssm_box(c.groups, K).x : 0.5;
+  float v = csm_z ? 0.5 * cssm_box_z(K) : 0.5;
   uint half_g = c.groups / 2u, base = csm_z ? half_g : 0u;
   vec2 e1 = cssm_cis(1.0, delta), e2 = vec2(e1.x * e1.x - e1.y * e1.y, 2.0 * e1.x * e1.y);
   vec2 e = e1;  // (cos, sin) of c_k δ for the group's first term
@@ -187,35 +197,44 @@ float cssm_filtered(vec3 q, vec4 g, float tw, float h, float d, bool csm_z) {
 float cssm_suppress(float s) { return clamp(c.alpha * (s - 0.5) + 0.5, 0.0, 1.0); }
 
 void main() {
-  uvec2 px = gl_GlobalInvocationID.xy;
-  if (px.x >= pc.width || px.y >= pc.height) return;
+  p = p_in;
+  c = c_in;
+  uvec2 px;
+  if (!sm_pixel_of(px)) return;
   uint i = px.y * pc.width + px.x;
   if (fg_in[i] == 0.0) { soft[i] = hard[i]; return; }
   vec3 P = sm_rel(i);  // P − light
   vec3 q = sm_project(P);
   if (!sm_inside(q)) { soft[i] = hard[i]; return; }
-  atomicAdd(stats[SHADOWMAP_STAT_PIXELS], 1u);
+  if (!SM_OWN) sm_count(SHADOWMAP_STAT_PIXELS);
   bool back;
   vec4 g = sm_receiver_plane(px, q, P, back);
-  if (back) { atomicAdd(stats[SHADOWMAP_STAT_SKIPPED], 1u); soft[i] = hard[i]; return; }
+  if (back) { sm_count(SHADOWMAP_STAT_SKIPPED); soft[i] = hard[i]; return; }
   float texel_world = 2.0 * q.z * p.tan_y / float(p.map_h);
   float k = p.light_radius * float(p.map_h) / (2.0 * p.tan_y);  // texels per unit of 1/d − 1/z
   // Receiver depth d: the biased receiver-plane threshold at its own texel centre, normalised.
   vec2 cc = floor(q.xy) + 0.5;
   float d = clamp((sm_threshold(q, g, cc, texel_world) - c.zmin) / c.zrange, 0.0, 1.0);
-  // The min-max HSM over PCSS's search region (vssm's test, thesis §7.5.1): where every texel
-  // lies behind the receiver's threshold, or every one in front of it, the pixel is lit or in
-  // umbra with no lookup (cssm.cpp). A receiver beyond the map's farthest surface is tested as
-  // lying on it (the background, clamped to it there, is no blocker; vssm.cpp).
+  // The min-max HSM (thesis §7.5.1, as vssm's): where every texel of the search's box lies
+  // behind the receiver's threshold over it the pixel is lit with no lookup; where every texel
+  // of PCSS's whole region lies in front of it (the region every blocker's cone stays within),
+  // in umbra. A receiver beyond the map's farthest surface is tested as lying on it (the
+  // background, clamped to it there, is no blocker; vssm.cpp).
+  float hs = sm_cone_box(k, p.min_depth, q.z, 1.0), h = hs;
   {
-    float qz = min(q.z, c.hsm.far_z);
-    float rs = sm_cone_radius(k, p.min_depth, qz, 1.0), r = max(rs, 0.5);
-    vec2 zr = sm_hsm_range(max(q.xy - r, vec2(0.0)), min(q.xy + r, vec2(p.map_w, p.map_h)));
-    float lim = g.w * texel_world * (rs + 1.0) * 1.5;
-    float base = qz - p.bias * texel_world - p.spread_bias * g.z;
-    if (zr.x >= base + lim || zr.y < base - lim) {
-      atomicAdd(stats[SHADOWMAP_STAT_SKIPPED], 1u);
-      soft[i] = sm_input_edges(zr.x >= base + lim ? 1.0 : 0.0, hard[i], 0.0);
+    vec3 qv = vec3(q.xy, min(q.z, c.hsm.far_z));
+    vec2 lo = max(q.xy - hs, vec2(0.0)), hi = min(q.xy + hs, vec2(p.map_w, p.map_h));
+    if (sm_hsm_range(lo, hi).x >= sm_threshold_range(qv, g, lo, hi, texel_world).y) {
+      sm_count(SHADOWMAP_STAT_SKIPPED);
+      soft[i] = sm_input_edges(1.0, hard[i], 0.0);
+      return;
+    }
+    float rs = max(sm_cone_radius(k, p.min_depth, qv.z, 1.0), 0.5);
+    lo = max(q.xy - rs, vec2(0.0));
+    hi = min(q.xy + rs, vec2(p.map_w, p.map_h));
+    if (sm_hsm_range(lo, hi).y < sm_threshold_range(qv, g, lo, hi, texel_world).x) {
+      sm_count(SHADOWMAP_STAT_SKIPPED);
+      soft[i] = sm_input_edges(0.0, hard[i], 0.0);
       return;
     }
   }
@@ -225,7 +244,6 @@ void main() {
   // cssm.cpp, while it shrinks: blockers outside the light's cone at the mean blocker depth
   // cannot shadow the receiver, but pulled the mean towards its depth); last the filter over
   // the penumbra's width (§5.3.1).
-  float hs = sm_cone_box(k, p.min_depth, q.z, 1.0), h = hs;
   float s_f = 1.0, z_avg = 0.0, zb = 0.0, rf = 0.0;
   uint step = 0u;  // 0: s_f over h; 1: CSM-Z over h; 2: the filter
   for (uint pass = 0u;;) {
@@ -233,10 +251,12 @@ void main() {
     if (step == 2u) { s_f = r; break; }
     if (step == 0u) {
       if (cssm_suppress(r) >= 1.0 || 1.0 - r < 1e-3) {
-        atomicAdd(stats[SHADOWMAP_STAT_SKIPPED], 1u);  // no blockers (within reach): fully lit
+        sm_count(SHADOWMAP_STAT_SKIPPED);  // no blockers (within reach): fully lit
         soft[i] = sm_input_edges(1.0, hard[i], 0.0);
         return;
       }
+      // The first dispatch ends here: the pixels with blockers are the second's (sm_pixel_of).
+      if (!SM_OWN) { sm_own_append(i); return; }
       s_f = r;
       step = 1u;
       continue;
@@ -253,7 +273,7 @@ void main() {
     }
     // Penumbra width (§5.3.1): rf = k (1/z_avg − 1/d).
     rf = k * max(1.0 / zb - 1.0 / q.z, 0.0);
-    if (rf > p.max_radius) { rf = p.max_radius; atomicAdd(stats[SHADOWMAP_STAT_CLAMPED], 1u); }
+    if (rf > p.max_radius) { rf = p.max_radius; sm_count(SHADOWMAP_STAT_CLAMPED); }
     h = max(SM_BOX_OF_DISK * rf, 0.5);
     step = 2u;
   }

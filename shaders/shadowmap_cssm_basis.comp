@@ -2,47 +2,84 @@
 #extension GL_GOOGLE_include_directive : require
 #include "shadowmap_cssm_io.h"
 // CSSM basis images (thesis eq. 5.2-5.3, 5.11): the 4M + 1 images of CssmParams from the map,
-// in the layout of shadowmap_cssm_io.h, written as SAT entries (32-bit integers, scanned next
-// by sat_scan32) or as mip level 0 (float bits).
+// in the layout of shadowmap_cssm_io.h. SAT: a lane per basis row and part (a group's CSM and
+// CSM-Z pairs, or the z image) walks the row, quantises each texel's values to 32-bit integers
+// and writes their running sums along the row (the row scan of the SAT; sat_scan32 adds the
+// columns next). Mipmap (CSSM_MIP): a lane per texel writes level 0 as float bits.
+// The terms' (cos, sin) of c_k ζ by rotation, e^{iπ(2k+1)ζ} = e^{iπζ} (e^{2iπζ})^k: one sin and
+// cos a texel (eq. 5.10's argument reduction in cssm_cis), not M.
 layout(local_size_x = CSSM_LOCAL, local_size_y = CSSM_LOCAL) in;
 layout(std430, binding = 0) readonly buffer Cprm { CssmParams c; };
 layout(std430, binding = 1) readonly buffer Smap { float smap[]; };
 layout(std430, binding = 2) writeonly buffer Tab { uvec4 tab[]; };
 layout(std430, binding = 3) writeonly buffer Tz { uint tz[]; };
 layout(push_constant) uniform Push { CssmPush pc; };
+layout(constant_id = 1) const bool CSSM_MIP = false;
 #include "shadowmap_cssm_common.h"
 
-uint put(float v) {
-  return c.prefilter == CSSM_FILTER_SAT ? uint(int(floor(v * c.sat_scale + 0.5))) : floatBitsToUint(v);
+uint quant(float v) { return uint(int(floor(v * c.sat_scale + 0.5))); }
+
+// Block (x, y)'s average of group j's four CSM values (cos, sin of terms 2j, 2j + 1) in a, of
+// its CSM-Z values in b, and of z; the block covers F x F map texels (fewer at the edges).
+void block(uint x, uint y, uint j, out vec4 a, out vec4 b, out float az) {
+  uint F = 1u << c.basis_shift;
+  uint x1 = min((x + 1u) * F, pc.width), y1 = min((y + 1u) * F, pc.height);
+  a = vec4(0.0);
+  b = vec4(0.0);
+  az = 0.0;
+  bool second = 2u * j + 1u < c.order;
+  for (uint yy = y * F; yy < y1; ++yy)
+    for (uint xx = x * F; xx < x1; ++xx) {
+      float z = cssm_norm(smap[yy * pc.width + xx]);
+      vec2 e1 = cssm_cis(1.0, c.s_z * z), e2 = vec2(e1.x * e1.x - e1.y * e1.y, 2.0 * e1.x * e1.y);
+      vec2 e = e1;
+      for (uint k = 0u; k < 2u * j; ++k) e = vec2(e.x * e2.x - e.y * e2.y, e.x * e2.y + e.y * e2.x);
+      vec2 en = second ? vec2(e.x * e2.x - e.y * e2.y, e.x * e2.y + e.y * e2.x) : vec2(0.0);
+      a += vec4(e, en);
+      b += z * vec4(e, en);
+      az += z;
+    }
+  float inv = 1.0 / float((x1 - x * F) * (y1 - y * F));
+  a *= inv;
+  b *= inv;
+  az *= inv;
 }
 
 void main() {
-  uint bw = c.level_w[0], bh = c.level_h[0];
-  uint x = gl_GlobalInvocationID.x, y = gl_GlobalInvocationID.y;
-  if (x >= bw || y >= bh) return;
-  uint i = y * bw + x, M = c.order, F = 1u << c.basis_shift, half_g = c.groups / 2u;
-  uint x1 = min((x + 1u) * F, pc.width), y1 = min((y + 1u) * F, pc.height);
-  float inv = 1.0 / float((x1 - x * F) * (y1 - y * F));
-  // The block's average of each basis function over the map texels it covers, a group at a
-  // time: (cos, sin) of terms 2j and 2j + 1, of CSM and of CSM-Z.
-  for (uint j = 0u; j < half_g; ++j) {
-    vec4 a = vec4(0.0), b = vec4(0.0);
-    float m0 = float(4u * j + 1u);
-    bool second = 2u * j + 1u < M;
-    for (uint yy = y * F; yy < y1; ++yy)
-      for (uint xx = x * F; xx < x1; ++xx) {
-        float z = cssm_norm(smap[yy * pc.width + xx]);
-        vec2 c0 = cssm_cis(m0, c.s_z * z), c1 = second ? cssm_cis(m0 + 2.0, c.s_z * z) : vec2(0.0);
-        a += vec4(c0, c1);
-        b += z * vec4(c0, c1);
-      }
-    a *= inv;
-    b *= inv;
-    tab[i * c.groups + j] = uvec4(put(a.x), put(a.y), put(a.z), put(a.w));
-    tab[i * c.groups + half_g + j] = uvec4(put(b.x), put(b.y), put(b.z), put(b.w));
+  uint bw = c.level_w[0], bh = c.level_h[0], half_g = c.groups / 2u;
+  if (CSSM_MIP) {
+    uint x = gl_GlobalInvocationID.x, y = gl_GlobalInvocationID.y;
+    if (x >= bw || y >= bh) return;
+    uint i = y * bw + x;
+    float az;
+    for (uint j = 0u; j < half_g; ++j) {
+      vec4 a, b;
+      block(x, y, j, a, b, az);
+      tab[i * c.groups + j] = floatBitsToUint(a);
+      tab[i * c.groups + half_g + j] = floatBitsToUint(b);
+    }
+    tz[i] = floatBitsToUint(az);
+    return;
   }
-  float az = 0.0;
-  for (uint yy = y * F; yy < y1; ++yy)
-    for (uint xx = x * F; xx < x1; ++xx) az += cssm_norm(smap[yy * pc.width + xx]);
-  tz[i] = put(az * inv);
+  uint line = gl_GlobalInvocationID.y * CSSM_BASIS_ROW + gl_GlobalInvocationID.x;
+  uint y = line / (half_g + 1u), part = line % (half_g + 1u);
+  if (y >= bh) return;
+  uvec4 ra = uvec4(0u), rb = uvec4(0u);
+  uint rz = 0u;
+  for (uint x = 0u; x < bw; ++x) {
+    vec4 a, b;
+    float az;
+    uint i = y * bw + x;
+    if (part < half_g) {
+      block(x, y, part, a, b, az);
+      ra += uvec4(quant(a.x), quant(a.y), quant(a.z), quant(a.w));
+      rb += uvec4(quant(b.x), quant(b.y), quant(b.z), quant(b.w));
+      tab[i * c.groups + part] = ra;
+      tab[i * c.groups + half_g + part] = rb;
+    } else {
+      block(x, y, 0u, a, b, az);
+      rz += quant(az);
+      tz[i] = rz;
+    }
+  }
 }

@@ -4,6 +4,7 @@
 #include "shadowmap_hsm_io.h"
 ISG_IO_BEGIN
 #define CSSM_LOCAL 16
+#define CSSM_BASIS_ROW 256u     // shadows.cssm.basis (SAT): lanes a dispatch row
 #define CSSM_MAX_LEVELS 16     // mip levels: maps up to 32768 texels a side
 #define CSSM_FILTER_SAT 0u     // shadows.cssm_filter = sat: 32-bit integer SATs (§7.5.4's format)
 #define CSSM_FILTER_MIPMAP 1u  // shadows.cssm_filter = mipmap: 2x2 box pyramids (float)

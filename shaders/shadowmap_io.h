@@ -9,6 +9,11 @@ ISG_IO_BEGIN
 #define SHADOWMAP_STAT_CLAMPED 2  // of them: kernel radius clamped to shadows.smap_max_radius
 #define SHADOWMAP_STAT_CONTACT 3  // of them: contact PCF (vssm, §7.5.4)
 #define SHADOWMAP_STATS 4
+// The own list of vssm and cssm (shadowmap_common.h's sm_pixel_of): word 0 the pixels listed,
+// words 1-3 the VkDispatchIndirectCommand of the own pass (SHADOWMAP_OWN_ROW workgroups a row,
+// a row per SHADOWMAP_OWN_ROW workgroups of pixels begun), then the pixels' indices.
+#define SHADOWMAP_OWN_HEAD 4u
+#define SHADOWMAP_OWN_ROW 16u
 // Receiver plane (issue 19): a plane that the screen neighbours left out of its fit agree with
 // (their light-space 1/z off the plane's by at most SHADOWMAP_PLANE_TOL of their step) is a
 // smooth receiver, trusted up to SHADOWMAP_TRUSTED_SLOPE texel footprints per texel (89.1 degrees

@@ -1,5 +1,7 @@
 #version 450
 #extension GL_GOOGLE_include_directive : require
+#extension GL_KHR_shader_subgroup_arithmetic : require
+#extension GL_KHR_shader_subgroup_basic : require
 #include "shadowmap_io.h"
 // PCSS (thesis §2.4.2): blocker search over the region a blocker as near as the map's nearest
 // depth could shadow the receiver from, then PCF over the penumbra width
@@ -28,6 +30,7 @@ layout(binding = 5) uniform samplerBuffer taps;
 layout(std430, binding = 6) writeonly buffer Soft { float soft[]; };
 layout(std430, binding = 7) buffer Stats { uint stats[]; };
 layout(push_constant) uniform Push { ShadowmapPush pc; };
+#define SHADOWMAP_COUNTS
 #include "shadowmap_common.h"
 
 // The blocker search over the disk of radius rs (the taps turned by rot): whether it finds
@@ -54,10 +57,10 @@ void main() {
   vec3 P = sm_rel(i);  // P − light
   vec3 q = sm_project(P);
   if (!sm_inside(q)) { soft[i] = texelFetch(hard, int(i)).r; return; }
-  atomicAdd(stats[SHADOWMAP_STAT_PIXELS], 1u);
+  sm_count(SHADOWMAP_STAT_PIXELS);
   bool back;
   vec4 g = sm_receiver_plane(px, q, P, back);
-  if (back) { atomicAdd(stats[SHADOWMAP_STAT_SKIPPED], 1u); soft[i] = texelFetch(hard, int(i)).r; return; }
+  if (back) { sm_count(SHADOWMAP_STAT_SKIPPED); soft[i] = texelFetch(hard, int(i)).r; return; }
   float texel_world = 2.0 * q.z * p.tan_y / float(p.map_h);
   float k = p.light_radius * float(p.map_h) / (2.0 * p.tan_y);  // texels per unit of 1/d − 1/z
   float a = 0.0;
@@ -74,12 +77,12 @@ void main() {
     rs = rn;
   }
   if (!found) {
-    atomicAdd(stats[SHADOWMAP_STAT_SKIPPED], 1u);
+    sm_count(SHADOWMAP_STAT_SKIPPED);
     soft[i] = sm_input_edges(1.0, texelFetch(hard, int(i)).r, 0.0);
     return;
   }
   float rf = k * max(1.0 / db - 1.0 / q.z, 0.0);
-  if (rf > p.max_radius) { rf = p.max_radius; atomicAdd(stats[SHADOWMAP_STAT_CLAMPED], 1u); }
+  if (rf > p.max_radius) { rf = p.max_radius; sm_count(SHADOWMAP_STAT_CLAMPED); }
   float lit = 0.0, all = 0.0;
   for (uint t = 0u; t < p.taps; ++t) {
     vec2 u = rot * texelFetch(taps, int(t)).xy;

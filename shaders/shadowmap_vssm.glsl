@@ -47,7 +47,10 @@ layout(binding = 6) uniform samplerBuffer hsm;
 layout(binding = 7) uniform usamplerBuffer sat;  // the SATs of z and (z − z0)², interleaved
 layout(std430, binding = 8) writeonly buffer Soft { float soft[]; };
 layout(std430, binding = 9) buffer Stats { uint stats[]; };
+layout(std430, binding = 10) buffer Own { uint own[]; };
 layout(push_constant) uniform Push { ShadowmapPush pc; };
+#define SHADOWMAP_COUNTS
+#define SHADOWMAP_OWN
 #include "shadowmap_common.h"
 
 #define SM_HSM v.hsm
@@ -231,19 +234,21 @@ bool blocker_search(vec3 q, vec4 g, float tw, float unbias, vec2 a, vec2 b, out 
   return bVsm + bPcf > 0.0;
 }
 
+// The first dispatch ends at the HSM's verdict (Algorithm 2, L8-L10), the second takes the
+// pixels it leaves (sm_pixel_of).
 void main() {
   p = p_in;
-  uvec2 px = gl_GlobalInvocationID.xy;
-  if (px.x >= pc.width || px.y >= pc.height) return;
+  uvec2 px;
+  if (!sm_pixel_of(px)) return;
   uint i = px.y * pc.width + px.x;
   if (texelFetch(fg_in, int(i)).r == 0.0) { soft[i] = texelFetch(hard, int(i)).r; return; }
   vec3 P = sm_rel(i);  // P − light
   vec3 q = sm_project(P);
   if (!sm_inside(q)) { soft[i] = texelFetch(hard, int(i)).r; return; }
-  atomicAdd(stats[SHADOWMAP_STAT_PIXELS], 1u);
+  if (!SM_OWN) sm_count(SHADOWMAP_STAT_PIXELS);
   bool back;
   vec4 g = sm_receiver_plane(px, q, P, back);
-  if (back) { atomicAdd(stats[SHADOWMAP_STAT_SKIPPED], 1u); soft[i] = texelFetch(hard, int(i)).r; return; }
+  if (back) { sm_count(SHADOWMAP_STAT_SKIPPED); soft[i] = texelFetch(hard, int(i)).r; return; }
   // A receiver beyond the map's farthest surface (far_z, where the background stands in the
   // SATs and the HSM) is shaded as lying on it: else the background would block it (vssm.cpp).
   float h_in = texelFetch(hard, int(i)).r;
@@ -260,8 +265,9 @@ void main() {
   float unbias = p.bias * tw + p.spread_bias * g.z;
   float base = q.z - p.bias * tw - p.spread_bias * g.z;
   vec2 zr = sm_hsm_range(a, b);
-  if (zr.x >= base + lim) { atomicAdd(stats[SHADOWMAP_STAT_SKIPPED], 1u); soft[i] = sm_input_edges(1.0, h_in, 0.0); return; }
-  if (zr.y < base - lim) { atomicAdd(stats[SHADOWMAP_STAT_SKIPPED], 1u); soft[i] = sm_input_edges(0.0, h_in, 0.0); return; }
+  if (zr.x >= base + lim) { sm_count(SHADOWMAP_STAT_SKIPPED); soft[i] = sm_input_edges(1.0, h_in, 0.0); return; }
+  if (zr.y < base - lim) { sm_count(SHADOWMAP_STAT_SKIPPED); soft[i] = sm_input_edges(0.0, h_in, 0.0); return; }
+  if (!SM_OWN) { sm_own_append(i); return; }
 
   // The search narrowed to the blockers' cone (vssm.cpp), while it shrinks: where the narrowed
   // box holds no blocker the receiver is lit, else its mean blocker depth is the new one.
@@ -275,15 +281,15 @@ void main() {
     found = blocker_search(q, g, tw, unbias, a, b, zavg);
     hs = hn;
   }
-  if (!found) { atomicAdd(stats[SHADOWMAP_STAT_SKIPPED], 1u); soft[i] = sm_input_edges(1.0, h_in, 0.0); return; }
+  if (!found) { sm_count(SHADOWMAP_STAT_SKIPPED); soft[i] = sm_input_edges(1.0, h_in, 0.0); return; }
   float rf = k * max(1.0 / zavg - 1.0 / q.z, 0.0);
-  if (rf > p.max_radius) { rf = p.max_radius; atomicAdd(stats[SHADOWMAP_STAT_CLAMPED], 1u); }
+  if (rf > p.max_radius) { rf = p.max_radius; sm_count(SHADOWMAP_STAT_CLAMPED); }
   // The square kernel of the light disk's area (half-width √π/2 · r; a rect light's
   // area-equivalent disk).
   square(q, 0.8862269 * rf, a, b);
   if (q.z - zavg < v.contact) {
     // Contact (§7.5.4): the penumbra is narrow and the SAT's precision short: 3x3 PCF.
-    atomicAdd(stats[SHADOWMAP_STAT_CONTACT], 1u);
+    sm_count(SHADOWMAP_STAT_CONTACT);
     float nb, zb;
     square(q, max(rf, 1.0), a, b);
     soft[i] = sm_input_edges(pcf(a, b, 3u, q, g, tw, p.reach * k, nb, zb), h_in, rf);

@@ -261,20 +261,13 @@ class Prefiltered {
       auto S = [&](int x, int y) { return t[size_t(y) * (W_ + 1) + x]; };
       const double x0 = std::max(qx - hx, 0.0), x1 = std::min(qx + hx, Wf_);
       const double y0 = std::max(qy - hy, 0.0), y1 = std::min(qy + hy, Hf_);
-      const int X0 = int(std::floor(x0)), X1 = int(std::floor(x1));
-      const int Y0 = int(std::floor(y0)), Y1 = int(std::floor(y1));
-      // Spans [X0, X1), cell X0, cell X1 with weights 1, −frac(x0), frac(x1): the exact
-      // integral of the texel-constant layer over [x0, x1].
-      const int xs[3][2] = {{X0, X1}, {X0, std::min(X0 + 1, W_)}, {X1, std::min(X1 + 1, W_)}};
-      const int ys[3][2] = {{Y0, Y1}, {Y0, std::min(Y0 + 1, H_)}, {Y1, std::min(Y1 + 1, H_)}};
-      const double wx[3] = {1.0, -(x0 - X0), x1 - X1}, wy[3] = {1.0, -(y0 - Y0), y1 - Y1};
-      double sum = 0;
-      for (int a = 0; a < 3; ++a)
-        for (int b = 0; b < 3; ++b)
-          sum += wx[a] * wy[b] *
-                 (S(xs[a][1], ys[b][1]) - S(xs[a][0], ys[b][1]) - S(xs[a][1], ys[b][0]) +
-                  S(xs[a][0], ys[b][0]));
-      return sum / ((x1 - x0) * (y1 - y0));
+      // The box snapped to whole texels (the nearest boundaries, at least one texel): four
+      // corners of the table, an exact integer sum (see the top of the file).
+      const int X0 = std::clamp(int(std::floor(x0 + 0.5)), 0, W_ - 1);
+      const int X1 = std::clamp(int(std::floor(x1 + 0.5)), X0 + 1, W_);
+      const int Y0 = std::clamp(int(std::floor(y0 + 0.5)), 0, H_ - 1);
+      const int Y1 = std::clamp(int(std::floor(y1 + 0.5)), Y0 + 1, H_);
+      return (S(X1, Y1) - S(X0, Y1) - S(X1, Y0) + S(X0, Y0)) / (double(X1 - X0) * double(Y1 - Y0));
     }
     const int levels = int(L_.w.size());
     // The level whose texel spans the kernel (of a rectangle, the square of its area).
@@ -370,18 +363,23 @@ std::vector<float> cssm_reference(const ShadowmapInputs& in, const ShadowmapData
       return area > 0 ? sum / area : lookup(q[0], q[1], h, h, d, csm_z);
     };
     auto visibility = [&](double h) { return filtered(h, false); };
-    // The min-max HSM over PCSS's search region (see the top of the file).
+    // The min-max HSM: lit over the search's box, umbra over PCSS's region (see the top of
+    // the file).
     {
-      const double qz = std::min(q[2], hsm_levels.far_z);
-      const double rs = Geom::cone_radius(k, map.min_depth, qz, 1.0, s.max_radius);
-      const double r = std::max(rs, 0.5);
-      const auto zr = hsm.range({std::max(q[0] - r, 0.0), std::max(q[1] - r, 0.0)},
-                                {std::min(q[0] + r, double(map.width)), std::min(q[1] + r, double(map.height))});
-      const double lim = g[3] * texel_world * (rs + 1.0) * 1.5;
-      const double base = qz - s.bias * texel_world - s.spread_bias * g[2];
-      if (zr[0] >= base + lim || zr[1] < base - lim) {
+      const V3 qv = {q[0], q[1], std::min(q[2], hsm_levels.far_z)};
+      const double hb = Geom::cone_box(k, map.min_depth, q[2], 1.0, s.max_radius);
+      V2 lo = {std::max(q[0] - hb, 0.0), std::max(q[1] - hb, 0.0)};
+      V2 hi = {std::min(q[0] + hb, double(map.width)), std::min(q[1] + hb, double(map.height))};
+      if (hsm.range(lo, hi)[0] >= G.threshold_range(qv, g, lo, hi, texel_world)[1]) {
         ++st.skipped;
-        return {zr[0] >= base + lim ? 1.0 : 0.0, 0.0};
+        return {1.0, 0.0};
+      }
+      const double rs = std::max(Geom::cone_radius(k, map.min_depth, qv[2], 1.0, s.max_radius), 0.5);
+      lo = {std::max(q[0] - rs, 0.0), std::max(q[1] - rs, 0.0)};
+      hi = {std::min(q[0] + rs, double(map.width)), std::min(q[1] + rs, double(map.height))};
+      if (hsm.range(lo, hi)[1] < G.threshold_range(qv, g, lo, hi, texel_world)[0]) {
+        ++st.skipped;
+        return {0.0, 0.0};
       }
     }
     // Blocker search (Fig. 5.1a): the PCSS region as a box of the same area.
@@ -435,10 +433,15 @@ class Cssm final : public ShadowmapMethod {
        uint32_t h, bool has_position)
       : basis_(ctx, "shadows.cssm.basis", isg_spv_shadowmap_cssm_basis,
                std::vector<gpu::Slot>(4, gpu::Slot::buffer), sizeof(shaders::CssmPush),
-               CSSM_LOCAL, CSSM_LOCAL),
+               CSSM_LOCAL, CSSM_LOCAL, {0u, s.cssm_filter == "mipmap" ? 1u : 0u}),
         shade_(ctx, "shadows.cssm", isg_spv_shadowmap_cssm,
-               std::vector<gpu::Slot>(11, gpu::Slot::buffer), sizeof(shaders::ShadowmapPush),
-               SHADOWMAP_LOCAL, SHADOWMAP_LOCAL),
+               std::vector<gpu::Slot>(12, gpu::Slot::buffer), sizeof(shaders::ShadowmapPush),
+               SHADOWMAP_LOCAL, SHADOWMAP_LOCAL, {0u, s.cssm_filter == "mipmap" ? 1u : 0u}),
+        // The pixels the search finds blockers for (shadowmap_common.h's sm_pixel_of).
+        own_k_(ctx, "shadows.cssm.own", isg_spv_shadowmap_cssm,
+               std::vector<gpu::Slot>(12, gpu::Slot::buffer), sizeof(shaders::ShadowmapPush),
+               SHADOWMAP_LOCAL, SHADOWMAP_LOCAL, {1u, s.cssm_filter == "mipmap" ? 1u : 0u}),
+        own_(ctx, w, h),
         hsm_levels_(detail::hsm_levels(map)),
         hsm_(ctx, hsm_levels_),
         w_(w),
@@ -510,14 +513,18 @@ class Cssm final : public ShadowmapMethod {
     const auto& c = cparams_;
     hsm_.record(seq, map, label);
     shaders::CssmPush bp{map_w_, map_h_, 0u, 0u};
-    seq.dispatch(basis_,
-                 {gpu::Binding::of(cssm_params_), gpu::Binding::of(map), gpu::Binding::of(tab_),
-                  gpu::Binding::of(tz_)},
-                 bp, c.level_w[0], c.level_h[0], label + ".basis");
+    const std::vector<gpu::Binding> bb{gpu::Binding::of(cssm_params_), gpu::Binding::of(map),
+                                       gpu::Binding::of(tab_), gpu::Binding::of(tz_)};
     if (scan_) {
-      scan_->record(seq, tab_, c.level_w[0], c.level_h[0], 4u * c.groups, label + ".sat");
-      scan_->record(seq, tz_, c.level_w[0], c.level_h[0], 1u, label + ".sat_z");
+      // A lane per basis row and part (shadowmap_cssm_basis.comp), the rows summed; then the
+      // columns.
+      const uint32_t lines = c.level_h[0] * (c.groups / 2u + 1u);
+      seq.dispatch(basis_, bb, bp, CSSM_BASIS_ROW, (lines + CSSM_BASIS_ROW - 1) / CSSM_BASIS_ROW,
+                   label + ".basis");
+      scan_->record(seq, tab_, c.level_w[0], c.level_h[0], 4u * c.groups, label + ".sat", false);
+      scan_->record(seq, tz_, c.level_w[0], c.level_h[0], 1u, label + ".sat_z", false);
     } else {
+      seq.dispatch(basis_, bb, bp, c.level_w[0], c.level_h[0], label + ".basis");
       for (uint32_t l = 1; l < c.levels; ++l) {
         shaders::CssmPush mp{c.level_w[l], c.level_h[l], l, 0u};
         seq.dispatch(*mip_,
@@ -526,21 +533,24 @@ class Cssm final : public ShadowmapMethod {
       }
     }
     shaders::ShadowmapPush pc{w_, h_};
-    seq.dispatch(shade_,
-                 {gpu::Binding::of(params_), gpu::Binding::of(cssm_params_), gpu::Binding::of(geo),
-                  gpu::Binding::of(fg), gpu::Binding::of(hard), gpu::Binding::of(map),
-                  gpu::Binding::of(soft), gpu::Binding::of(stats_), gpu::Binding::of(tab_),
-                  gpu::Binding::of(tz_), gpu::Binding::of(hsm_.buffer())},
-                 pc, w_, h_, label);
+    const std::vector<gpu::Binding> b{
+        gpu::Binding::of(params_), gpu::Binding::of(cssm_params_), gpu::Binding::of(geo),
+        gpu::Binding::of(fg), gpu::Binding::of(hard), gpu::Binding::of(map),
+        gpu::Binding::of(soft), gpu::Binding::of(stats_), gpu::Binding::of(tab_),
+        gpu::Binding::of(tz_), gpu::Binding::of(hsm_.buffer()), gpu::Binding::of(own_.buffer())};
+    own_.reset(seq, label + ".list");
+    seq.dispatch(shade_, b, pc, w_, h_, label);
+    own_.dispatch(seq, own_k_, b, pc, label + ".own");
   }
   ShadowmapStats stats() const override { return read_stats(stats_); }
   uint64_t gpu_bytes() const override {
     return params_.size() + cssm_params_.size() + stats_.size() + tab_.size() + tz_.size() +
-           hsm_.buffer().size();
+           hsm_.buffer().size() + own_.buffer().size();
   }
 
  private:
-  gpu::Kernel basis_, shade_;
+  gpu::Kernel basis_, shade_, own_k_;
+  OwnList own_;
   HsmLevels hsm_levels_;
   HsmPass hsm_;
   std::optional<gpu::Kernel> mip_;  // the mipmap filter's

@@ -271,4 +271,24 @@ std::unique_ptr<ShadowmapMethod> make_cssm(gpu::Context& ctx, const ShadowmapSet
 gpu::Buffer zeroed_stats(gpu::Context& ctx);
 ShadowmapStats read_stats(const gpu::Buffer& stats);
 
+// The own list of a method run as two dispatches of one shader (shadowmap_common.h's
+// sm_pixel_of): the pixels the first leaves to the second, and the second's dispatch.
+class OwnList {
+ public:
+  OwnList(gpu::Context& ctx, uint32_t w, uint32_t h);
+  // Empties the list (a copy, so that every recorded frame starts from an empty one).
+  void reset(gpu::Sequence& seq, const std::string& label) const;
+  // The second dispatch, over the listed pixels.
+  template <class P>
+  void dispatch(gpu::Sequence& seq, const gpu::Kernel& k, const std::vector<gpu::Binding>& b,
+                const P& push, const std::string& label) const {
+    seq.dispatch_indirect(k, b, push, list_, 4, label);
+  }
+  const gpu::Buffer& buffer() const { return list_; }
+  uint32_t listed() const;  // after the sequence ran
+
+ private:
+  gpu::Buffer list_, empty_;
+};
+
 }  // namespace isg::effects::detail

@@ -82,9 +82,9 @@ SatScan32::SatScan32(gpu::Context& ctx)
             SAT_LINES, 1) {}
 
 void SatScan32::record(gpu::Sequence& seq, const gpu::Buffer& sat, uint32_t w, uint32_t h,
-                       uint32_t words, const std::string& label) {
+                       uint32_t words, const std::string& label, bool rows) {
   shaders::SatPush pc{w, h, 0u, 1u, 0.0f, 1.0f, 1e30f, 0.0f, words, 0u};
-  seq.dispatch(scan_, {gpu::Binding::of(sat)}, pc, h * words, 1, label + ".rows");
+  if (rows) seq.dispatch(scan_, {gpu::Binding::of(sat)}, pc, h * words, 1, label + ".rows");
   pc.axis = 1u;
   seq.dispatch(scan_, {gpu::Binding::of(sat)}, pc, w * words, 1, label + ".columns");
 }

@@ -38,8 +38,9 @@ double sat_rect_sum(const std::vector<int64_t>& sat, int w, int x0, int y0, int 
 class SatScan32 {
  public:
   explicit SatScan32(gpu::Context& ctx);
+  // rows = false: the columns only (rows already summed, e.g. by cssm's basis pass).
   void record(gpu::Sequence& seq, const gpu::Buffer& sat, uint32_t w, uint32_t h, uint32_t words,
-              const std::string& label);
+              const std::string& label, bool rows = true);
 
  private:
   gpu::Kernel scan_;

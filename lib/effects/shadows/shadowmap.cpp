@@ -204,6 +204,19 @@ gpu::Buffer zeroed_stats(gpu::Context& ctx) {
   return b;
 }
 
+OwnList::OwnList(gpu::Context& ctx, uint32_t w, uint32_t h)
+    : list_(ctx, (SHADOWMAP_OWN_HEAD + size_t(w) * h) * sizeof(uint32_t), "shadowmap.own"),
+      empty_(ctx, SHADOWMAP_OWN_HEAD * sizeof(uint32_t), "shadowmap.own.empty") {
+  const std::vector<uint32_t> e{0u, SHADOWMAP_OWN_ROW, 0u, 1u};
+  empty_.upload(std::span<const uint32_t>(e));
+}
+
+void OwnList::reset(gpu::Sequence& seq, const std::string& label) const {
+  seq.copy(empty_, list_, empty_.size(), label);
+}
+
+uint32_t OwnList::listed() const { return list_.download_as<uint32_t>(1)[0]; }
+
 ShadowmapStats read_stats(const gpu::Buffer& stats) {
   auto v = stats.download_as<uint32_t>(SHADOWMAP_STATS);
   ShadowmapStats s;

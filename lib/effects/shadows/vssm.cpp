@@ -313,21 +313,29 @@ shaders::VssmParams vssm_params(const ShadowmapSettings& s, const VssmSetup& v) 
   return p;
 }
 
+std::span<const uint32_t> vssm_spirv(gpu::Context& ctx) {
+  return ctx.info().float64 ? std::span<const uint32_t>(isg_spv_shadowmap_vssm64)
+                            : std::span<const uint32_t>(isg_spv_shadowmap_vssm);
+}
+std::vector<gpu::Slot> vssm_slots() {
+  return {gpu::Slot::buffer, gpu::Slot::texels, gpu::Slot::texels, gpu::Slot::texels,
+          gpu::Slot::texels, gpu::Slot::buffer, gpu::Slot::texels, gpu::Slot::texels,
+          gpu::Slot::buffer, gpu::Slot::buffer, gpu::Slot::buffer};
+}
+
 class Vssm final : public detail::ShadowmapMethod {
  public:
   Vssm(gpu::Context& ctx, const ShadowmapSettings& s, const ShadowmapData& map, uint32_t w,
        uint32_t h, bool has_position)
       : v_(vssm_setup(map)),
         hsm_(ctx, v_.hsm),
-        // The moments in double where the device can (shadowmap_vssm.glsl's VSSM_REAL).
-        shade_k_(ctx, "shadows.vssm",
-                 ctx.info().float64 ? std::span<const uint32_t>(isg_spv_shadowmap_vssm64)
-                                    : std::span<const uint32_t>(isg_spv_shadowmap_vssm),
-                 {gpu::Slot::buffer, gpu::Slot::texels, gpu::Slot::texels, gpu::Slot::texels,
-                  gpu::Slot::texels, gpu::Slot::buffer, gpu::Slot::texels, gpu::Slot::texels,
-                  gpu::Slot::buffer, gpu::Slot::buffer},
-                 sizeof(shaders::ShadowmapPush),
-                 SHADOWMAP_LOCAL, SHADOWMAP_LOCAL),
+        // The moments in double where the device can (shadowmap_vssm.glsl's VSSM_REAL); two
+        // dispatches, the HSM's verdict and the listed pixels' filters (SM_OWN).
+        shade_k_(ctx, "shadows.vssm", vssm_spirv(ctx), vssm_slots(), sizeof(shaders::ShadowmapPush),
+                 SHADOWMAP_LOCAL, SHADOWMAP_LOCAL, {0u}),
+        own_k_(ctx, "shadows.vssm.own", vssm_spirv(ctx), vssm_slots(),
+               sizeof(shaders::ShadowmapPush), SHADOWMAP_LOCAL, SHADOWMAP_LOCAL, {1u}),
+        own_(ctx, w, h),
         sat_pass_(ctx), w_(w), h_(h), mw_(uint32_t(map.width)),
         mh_(uint32_t(map.height)) {
     const auto p = shadowmap_params(s, map, w, h, has_position, 0u);
@@ -347,24 +355,27 @@ class Vssm final : public detail::ShadowmapMethod {
     hsm_.record(seq, map, label);
     sat_pass_.record(seq, map, sat_, mw_, mh_, {v_.f1, v_.f2}, label + ".sat");
     shaders::ShadowmapPush pc{w_, h_};
-    seq.dispatch(shade_k_,
-                 {gpu::Binding::of(params_), gpu::Binding::floats(geo), gpu::Binding::floats(fg),
-                  gpu::Binding::floats(hard), gpu::Binding::floats(map), gpu::Binding::of(vparams_),
-                  gpu::Binding::texels(hsm_.buffer(), VK_FORMAT_R32G32_SFLOAT),
-                  gpu::Binding::texels(sat_, VK_FORMAT_R32G32B32A32_UINT), gpu::Binding::of(soft),
-                  gpu::Binding::of(stats_)},
-                 pc, w_, h_, label);
+    const std::vector<gpu::Binding> b{
+        gpu::Binding::of(params_), gpu::Binding::floats(geo), gpu::Binding::floats(fg),
+        gpu::Binding::floats(hard), gpu::Binding::floats(map), gpu::Binding::of(vparams_),
+        gpu::Binding::texels(hsm_.buffer(), VK_FORMAT_R32G32_SFLOAT),
+        gpu::Binding::texels(sat_, VK_FORMAT_R32G32B32A32_UINT), gpu::Binding::of(soft),
+        gpu::Binding::of(stats_), gpu::Binding::of(own_.buffer())};
+    own_.reset(seq, label + ".list");
+    seq.dispatch(shade_k_, b, pc, w_, h_, label);
+    own_.dispatch(seq, own_k_, b, pc, label + ".own");
   }
   ShadowmapStats stats() const override { return detail::read_stats(stats_); }
   uint64_t gpu_bytes() const override {
-    return params_.size() + vparams_.size() + hsm_.buffer().size() + sat_.size() +
+    return params_.size() + vparams_.size() + hsm_.buffer().size() + sat_.size() + own_.buffer().size() +
            stats_.size();
   }
 
  private:
   VssmSetup v_;
   detail::HsmPass hsm_;
-  gpu::Kernel shade_k_;
+  gpu::Kernel shade_k_, own_k_;
+  detail::OwnList own_;
   SatPass sat_pass_;
   gpu::Buffer params_, vparams_, sat_, stats_;
   uint32_t w_, h_, mw_, mh_;
