@@ -24,9 +24,21 @@
 //   x0 / s_z in front of the receiver casts (Shaded::r_min; issue 19: own contact-far1e5
 //   0.51 -> 0.45 of doing nothing, the shared cases within 0.01).
 // - Kernels are square boxes in map texels of the area of the disk PCSS samples (half-width
-//   √π/2 · r), at least one texel wide, clipped to the map: SAT integrates the texel-constant
-//   basis exactly over the fractional box; mipmaps sample the level whose texel spans the box
-//   (bilinear, linear between levels, clamp to edge).
+//   √π/2 · r), at least one texel wide, clipped to the map. SAT: the box snapped to whole basis
+//   texels (its edges to the nearest texel boundary, at least one texel wide), so a lookup reads
+//   four table entries an image, one 16-byte load for four images (issue 51: the fractional
+//   box's 4 x 4 entries cost lavapipe 1.8 s against 0.5 s a 1080p frame; shared contact 0.2365
+//   -> 0.2428 of doing nothing, rowdepth 0.2611 -> 0.2641). The tables are 32-bit integers
+//   summed in wrapping arithmetic (Lauritzen07's integer SATs, which VSSM §7.5.4 adopts): each
+//   value quantised to sat_scale units, a power of two that keeps the largest box any kernel
+//   reads (shadows.smap_max_radius) within 2^30 units, so its sum from four entries is exact.
+//   Mipmaps sample the level whose texel spans the box (bilinear, linear between levels, clamp
+//   to edge).
+// - The min-max HSM (hsm.h; thesis §7.5.1, as vssm's) proves a pixel lit where every texel of
+//   the search's box lies behind the receiver's threshold over it, and in umbra where every
+//   texel of PCSS's whole region lies in front of it, with no lookup. Only the pixels whose
+//   first search finds blockers run the rest, in a second dispatch (shadowmap_common.h's
+//   sm_pixel_of).
 // - Receiver depth per sub-kernel (issue 19; the thesis takes one d per pixel, which a receiver
 //   whose light depth changes across the kernel cannot have: at grazing light the receiver's own
 //   texels on the light's side of the pixel lie in front of d and shadow it). A lookup over
@@ -60,7 +72,9 @@
 //   blocks (f = 2^shift, the smallest that fits; edge blocks average the texels they cover)
 //   before prefiltering. The basis is linear in the texels, so each block holds exactly the box
 //   average of the full-resolution basis; kernels and lookups then work in block units (q/f,
-//   h/f). This is what lets 4M + 1 layers of a 4096² map fit a device.
+//   h/f). This is what lets 4M + 1 layers of a 4096² map fit a device; where the device's
+//   storage-buffer range cannot hold the basis (M = 16 at 1024² on lavapipe's 128 MiB), f grows
+//   further on its own.
 #include <algorithm>
 #include <cmath>
 #include <optional>

@@ -132,11 +132,13 @@ class Shadows final : public Effect {
        "the thesis's settings (8: the best error on the shared contact case, 4M + 1 basis "
        "images)"),
       params::def(shadow_keys::cssm_filter, "sat", {"sat", "mipmap"},
-       "cssm: prefiltering of the basis images, summed-area tables or mipmaps (§5.3.1)"),
+       "cssm: prefiltering of the basis images, summed-area tables (32-bit integers, boxes "
+       "snapped to whole texels) or mipmaps (§5.3.1)"),
       params::def(shadow_keys::cssm_max_basis, "1024", 64, 16384,
        "cssm: largest side of the basis images, texels; a larger map is box-averaged 2x2 "
-       "(exactly, the basis being linear in its texels) until it fits, so 4M + 1 images fit "
-       "the device (kernels narrower than the averaged texel lose their detail)"),
+       "(exactly, the basis being linear in its texels) until it fits, and further where the "
+       "device's storage-buffer range cannot hold 4M + 1 images (kernels narrower than the "
+       "averaged texel lose their detail)"),
       params::def(shadow_keys::cssm_split, "4", 1, 8,
        "cssm: most sub-kernels a side each lookup is split into where the receiver plane's "
        "depth changes across the kernel by more than the expansion's step shift (a grazing "
