@@ -1,4 +1,4 @@
-// GLSL only: the min-max HSM lookup (lib/effects/shadows/hsm.h). Before including, define
+// GLSL only: the min-max HSM lookup (lib/effects/shadowmaps/hsm.h). Before including, define
 // SM_HSM (an HsmLevelsGpu), sm_hsm_texel(i) (level ≥ 1 texel i: vec2 min, max) and include
 // shadowmap_common.h (sm_map).
 #ifndef SHADOWMAP_HSM_H

@@ -4,7 +4,7 @@
 ISG_IO_BEGIN
 #define HSM_MAX_LEVELS 16
 #define HSM_LOCAL 16
-// The min-max HSM (lib/effects/shadows/hsm.h) as the shading passes read it: level 0 is the map
+// The min-max HSM (lib/effects/shadowmaps/hsm.h) as the shading passes read it: level 0 is the map
 // itself (depths clamped to far_z), levels 1... a vec2 (min, max) per texel from offset 0.
 struct HsmLevelsGpu {
   uint levels;

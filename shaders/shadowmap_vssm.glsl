@@ -34,7 +34,7 @@
 // 0.38, 0.42, 0.37; lowlight 0.29, 0.31, 0.34; overlap 0.29, 0.32, 0.36; rowdepth 0.19, 0.22,
 // 0.23. 1 pass: lowlight 0.31, overlap 0.31; 4: 0.28, 0.28. Cost: shared contact's pass 287 ->
 // 353 ms on lavapipe.
-// lib/effects/shadows/vssm.cpp holds the double mirror.
+// lib/effects/shadowmaps/vssm.cpp holds the double mirror.
 layout(local_size_x = SHADOWMAP_LOCAL, local_size_y = SHADOWMAP_LOCAL) in;
 layout(std430, binding = 0) readonly buffer Prm { ShadowmapParams p_in; };
 ShadowmapParams p;  // p_in, copied once at the top of main

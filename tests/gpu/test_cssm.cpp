@@ -6,7 +6,7 @@
 #include <cstdio>
 
 #include "effects/params.h"
-#include "effects/shadows/shadowmap.h"
+#include "effects/shadowmaps/shadowmap.h"
 #include "io/image.h"
 #include "run/job.h"
 #include "support/gpu_fixture.h"

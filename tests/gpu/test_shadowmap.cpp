@@ -7,8 +7,8 @@
 #include <random>
 
 #include "effects/params.h"
-#include "effects/shadows/sat.h"
-#include "effects/shadows/shadowmap.h"
+#include "effects/shadowmaps/sat.h"
+#include "effects/shadowmaps/shadowmap.h"
 #include "run/job.h"
 #include "support/gpu_fixture.h"
 #include "support/shadow_planes.h"

@@ -8,8 +8,8 @@
 #include <cstdio>
 
 #include "effects/params.h"
-#include "effects/shadows/derive.h"
-#include "effects/shadows/shadowmap.h"
+#include "effects/shadowmaps/derive.h"
+#include "effects/shadowmaps/shadowmap.h"
 #include "io/image.h"
 #include "io/scene.h"
 #include "run/job.h"

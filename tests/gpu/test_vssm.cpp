@@ -10,7 +10,7 @@
 #include <utility>
 
 #include "effects/params.h"
-#include "effects/shadows/shadowmap.h"
+#include "effects/shadowmaps/shadowmap.h"
 #include "run/job.h"
 #include "support/gpu_fixture.h"
 #include "support/shadow_planes.h"

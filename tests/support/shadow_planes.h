@@ -8,7 +8,7 @@
 #include <string>
 #include <vector>
 
-#include "effects/shadows/shadowmap.h"
+#include "effects/shadowmaps/shadowmap.h"
 #include "gpu/gpu.h"
 #include "synth.h"
 

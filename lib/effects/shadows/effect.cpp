@@ -64,7 +64,7 @@ class Shadows final : public Effect {
       params::def(shadow_keys::tile_skip, "true",
        "16x16 tiles with no shadow boundary within the search radius keep L.shadow (fully lit "
        "or umbra)"),
-      // Shadow-map methods (lib/effects/shadows/shadowmap.h).
+      // Shadow-map methods (lib/effects/shadowmaps/shadowmap.h).
       params::def(shadow_keys::pcss_taps, "32", 1, 1024,
        "pcss: blocker-search and PCF taps per pixel (stratified: rounded to a square grid)"),
       params::def(shadow_keys::pcss_pattern, "stratified", {"stratified", "poisson"},

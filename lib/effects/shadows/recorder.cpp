@@ -4,11 +4,11 @@
 #include <map>
 
 #include "effects/recorder.h"
-#include "effects/shadows/derive.h"
+#include "effects/shadowmaps/derive.h"
 #include "effects/shadows/hard.h"
 #include "effects/shadows/instance.h"
 #include "effects/shadows/isg.h"
-#include "effects/shadows/shadowmap.h"
+#include "effects/shadowmaps/shadowmap.h"
 
 namespace isg::effects {
 

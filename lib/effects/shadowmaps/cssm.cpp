@@ -81,9 +81,9 @@
 #include <stdexcept>
 #include <string>
 
-#include "effects/shadows/hsm.h"
-#include "effects/shadows/method.h"
-#include "effects/shadows/sat.h"
+#include "effects/shadowmaps/hsm.h"
+#include "effects/shadowmaps/method.h"
+#include "effects/shadowmaps/sat.h"
 #include "isg/shaders/shadowmap_cssm.spv.h"
 #include "isg/shaders/shadowmap_cssm_basis.spv.h"
 #include "isg/shaders/shadowmap_cssm_mip.spv.h"

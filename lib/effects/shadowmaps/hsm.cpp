@@ -1,4 +1,4 @@
-#include "effects/shadows/hsm.h"
+#include "effects/shadowmaps/hsm.h"
 
 #include <algorithm>
 #include <cmath>

@@ -1,11 +1,11 @@
-#include "effects/shadows/shadowmap.h"
+#include "effects/shadowmaps/shadowmap.h"
 
 #include <algorithm>
 #include <cmath>
 #include <random>
 
 #include "effects/sampling.h"
-#include "effects/shadows/method.h"
+#include "effects/shadowmaps/method.h"
 #include "effects/shadows/settings.h"
 #include "effects/view.h"
 #include "io/image.h"

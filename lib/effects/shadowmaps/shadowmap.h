@@ -44,7 +44,7 @@ std::vector<float> pcss_reference(const ShadowmapInputs& in, const ShadowmapData
                                   const ShadowmapSettings& s, ShadowmapStats* stats = nullptr);
 
 // Double-precision VSSM (thesis ch. 7) and CSSM (ch. 5), the same decisions as their GPU
-// passes (lib/effects/shadows/vssm.cpp, cssm.cpp).
+// passes (lib/effects/shadowmaps/vssm.cpp, cssm.cpp).
 std::vector<float> vssm_reference(const ShadowmapInputs& in, const ShadowmapData& map,
                                   const ShadowmapSettings& s, ShadowmapStats* stats = nullptr);
 std::vector<float> cssm_reference(const ShadowmapInputs& in, const ShadowmapData& map,

@@ -6,7 +6,7 @@
 #include <cstdint>
 #include <string>
 
-#include "effects/shadows/shadowmap.h"
+#include "effects/shadowmaps/shadowmap.h"
 #include "gpu/gpu.h"
 
 namespace isg::effects {

@@ -6,9 +6,9 @@
 #include <cmath>
 #include <stdexcept>
 
-#include "effects/shadows/hsm.h"
-#include "effects/shadows/method.h"
-#include "effects/shadows/sat.h"
+#include "effects/shadowmaps/hsm.h"
+#include "effects/shadowmaps/method.h"
+#include "effects/shadowmaps/sat.h"
 #include "isg/shaders/shadowmap_vssm.spv.h"
 #include "isg/shaders/shadowmap_vssm64.spv.h"
 #include "shadowmap_io.h"

@@ -1,4 +1,4 @@
-#include "effects/shadows/sat.h"
+#include "effects/shadowmaps/sat.h"
 
 #include <algorithm>
 #include <cmath>

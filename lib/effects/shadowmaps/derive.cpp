@@ -1,4 +1,4 @@
-#include "effects/shadows/derive.h"
+#include "effects/shadowmaps/derive.h"
 
 #include "isg/shaders/shadowmap_derive.spv.h"
 #include "shadowmap_derive_io.h"

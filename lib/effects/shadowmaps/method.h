@@ -9,7 +9,7 @@
 #include <memory>
 #include <vector>
 
-#include "effects/shadows/shadowmap.h"
+#include "effects/shadowmaps/shadowmap.h"
 #include "effects/view.h"
 #include "shadowmap_io.h"
 
