@@ -13,9 +13,17 @@
   against the distribution-ray-traced reference, beside doing nothing's.
 
 Usage: python3 bench/shadowmap_speed.py [--build build] [--repeat 3] [--out docs/benchmark/shadowmap_speed.md]
-Needs NumPy for /usr/bin/python3 (Debian's python3-numpy) and the build's Python module.
+Needs NumPy (Debian's python3-numpy: the script re-runs itself under /usr/bin/python3 where the
+python3 on PATH has none) and the build's Python module.
 """
 import argparse, os, re, subprocess, sys, tempfile, time
+
+try:  # the errors read EXRs through the build's module into NumPy arrays
+    import numpy  # noqa: F401
+except ImportError:
+    if sys.executable != "/usr/bin/python3" and os.path.exists("/usr/bin/python3"):
+        os.execv("/usr/bin/python3", ["/usr/bin/python3", *sys.argv])
+    raise
 
 ap = argparse.ArgumentParser()
 ap.add_argument("--build", default="build")

@@ -99,6 +99,9 @@ def page(r):
          "commands alternated in one session; `oiiotool in.exr -o out.exr` is the I/O floor: "
          f"**{r['oiiotool_s']:.2f} s**. Device: {r['runs'][0]['device']}. Load average at the end: "
          f"{r['load']:.1f}.", "",
+         "The shadow-map methods (pcss, vssm, cssm) dispatch by dispatch, their pipelines' cold "
+         "compile and a large-penumbra series: [shadowmap_speed.md](shadowmap_speed.md) "
+         "(`python3 bench/shadowmap_speed.py`, issue 51).", "",
          "| binary | run | wall | × oiiotool | GPU total | stages of one --timings run (ms) |", "|---|---|---|---|---|---|"]
     for x in r["runs"]:
         L.append(f"| {x['binary']} | {x['row']} | {x['wall_s']:.2f} s | {x['ratio']:.2f}× | "
