@@ -160,10 +160,8 @@ void square(vec3 q, float r, out vec2 lo, out vec2 hi) {
 // lets light through the blockers, and eq. 7.4 places them too near the light (own lowlight
 // case: a sphere's umbra came out 0.55 lit). Such sub-kernels are split further or filtered by
 // PCF, which tests each tap against its own threshold.
-bool threshold_flat(vec3 q, vec4 g, vec2 lo, vec2 hi, float tw, float gap) {
-  vec2 tr = sm_threshold_range(q, g, lo, hi, tw);
-  return tr.y - tr.x < gap;
-}
+// tr: the threshold's range over the sub-kernel (hsm_verdict's).
+bool threshold_flat(vec2 tr, float gap) { return tr.y - tr.x < gap; }
 
 // Chebyshev's bound (eq. 7.1): the lit fraction of depths of mean mu and variance var against
 // threshold t. The filter takes it on each planar sub-kernel against its own threshold (the
@@ -182,9 +180,12 @@ float chebyshev(float mu, float var, float t) {
   return d > 0.0 ? var / (var + d * d) : 1.0;
 }
 
-// The HSM's verdict on a sub-kernel: 1 all lit, -1 all blocked, 0 neither.
-int hsm_verdict(vec3 q, vec4 g, vec2 lo, vec2 hi, float tw) {
-  vec2 zr = sm_hsm_range(lo, hi), tr = sm_threshold_range(q, g, lo, hi, tw);
+// The HSM's verdict on a sub-kernel: 1 all lit, -1 all blocked, 0 neither; tr the receiver's
+// threshold range over it (threshold_flat's too: computed once, as every lane runs every
+// branch's code on lavapipe).
+int hsm_verdict(vec3 q, vec4 g, vec2 lo, vec2 hi, float tw, out vec2 tr) {
+  vec2 zr = sm_hsm_range(lo, hi);
+  tr = sm_threshold_range(q, g, lo, hi, tw);
   return zr.x >= tr.y ? 1 : (zr.y < tr.x ? -1 : 0);
 }
 
@@ -202,11 +203,12 @@ bool blocker_search(vec3 q, vec4 g, float tw, float unbias, vec2 a, vec2 b, out 
       vec2 lo, hi;
       cell(a, b, m, ix, iy, lo, hi);
       if (empty(lo, hi)) continue;
-      int hv = hsm_verdict(q, g, lo, hi, tw);
+      vec2 tr;
+      int hv = hsm_verdict(q, g, lo, hi, tw, tr);
       if (hv > 0) continue;  // no blockers
       Moments mo = moments(lo, hi);
       float t = sm_threshold(q, g, 0.5 * (lo + hi), tw);
-      bool flat_t = mo.ezf < t && threshold_flat(q, g, lo, hi, tw, t - mo.ezf);
+      bool flat_t = mo.ezf < t && threshold_flat(tr, t - mo.ezf);
       if (hv < 0) {
         bPcf += mo.T; zPcf += mo.ezf * mo.T;  // all blockers: their mean depth is E(z)
       } else if (flat_t || (mo.ezf < t && v.leaf_grid == 0u)) {
@@ -306,7 +308,9 @@ void main() {
     vec2 lo, hi;
     cell(a, b, 1 << level, nx, ny, lo, hi);
     bool down = false;
-    int hv = empty(lo, hi) ? 2 : hsm_verdict(q, g, lo, hi, tw);
+    vec2 tr;
+    int hv = hsm_verdict(q, g, lo, hi, tw, tr);
+    if (empty(lo, hi)) hv = 2;
     float T = (hi.x - lo.x) * (hi.y - lo.y);
     if (hv == 1) {
       lA += T;  // the HSM proves it lit
@@ -316,7 +320,7 @@ void main() {
       Moments mo = moments(lo, hi);
       float t = sm_threshold(q, g, 0.5 * (lo + hi), tw);
       float var = mo.var;
-      bool flat_t = mo.ezf < t && threshold_flat(q, g, lo, hi, tw, t - mo.ezf);
+      bool flat_t = mo.ezf < t && threshold_flat(tr, t - mo.ezf);
       if (mo.ezf >= t && var < v.flat_var) {
         lA += mo.T;                                   // L10-L12: planar and behind: lit
       } else if (flat_t) {
