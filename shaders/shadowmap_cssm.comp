@@ -32,7 +32,7 @@ layout(push_constant) uniform Push { ShadowmapPush pc; };
 // Storage buffers, not texel views: on lavapipe (Mesa 22.3) this kernel ran 4x slower with its four
 // planes read through texel views (52 -> 220 s at 1080p; reason not found), where every other
 // gather got faster.
-layout(std430, binding = 8) readonly buffer Tab { uvec4 tab[]; };  // shadowmap_cssm_io.h
+layout(binding = 8) uniform usamplerBuffer tab;  // shadowmap_cssm_io.h, as texels
 layout(std430, binding = 9) readonly buffer Tz { uint tz[]; };
 layout(std430, binding = 10) readonly buffer Hsm { vec2 hsm[]; };
 layout(std430, binding = 11) buffer Own { uint own[]; };
@@ -105,25 +105,28 @@ Kern make_kern(vec2 q, vec2 h) {
 
 // The texel index of SAT entry (x, y) (x, y >= 1; the zero row and column are not stored).
 int sat_texel(int x, int y) { return (x <= 0 || y <= 0) ? -1 : (y - 1) * int(c.level_w[0]) + (x - 1); }
-uvec4 tab_at(int t, uint j) { return t < 0 ? uvec4(0u) : tab[uint(t) * c.groups + j]; }
+// Group j of the half from texel `off` of `tab` at basis texel t.
+uvec4 tab_at(uint off, int t, uint j) {
+  return t < 0 ? uvec4(0u) : texelFetch(tab, int(off + uint(t) * (c.groups / 2u) + j));
+}
 uint tz_at(int t) { return t < 0 ? 0u : tz[uint(t)]; }
 
 // The box average of four basis images, group j of `tab` (eq. 5.3: w * B_i). SAT: the box's
 // integral from its four corners in wrapping uint arithmetic, exact; mipmap: two levels'
 // bilinear taps.
-vec4 cssm_box(uint j, Kern K) {
+vec4 cssm_box(uint off, uint j, Kern K) {
   if (!CSSM_MIP) {
     int t00 = sat_texel(K.X.x, K.Y.x), t10 = sat_texel(K.X.y, K.Y.x);
     int t01 = sat_texel(K.X.x, K.Y.y), t11 = sat_texel(K.X.y, K.Y.y);
-    uvec4 r = (tab_at(t11, j) + tab_at(t00, j)) - (tab_at(t10, j) + tab_at(t01, j));
+    uvec4 r = (tab_at(off, t11, j) + tab_at(off, t00, j)) - (tab_at(off, t10, j) + tab_at(off, t01, j));
     return vec4(ivec4(r)) * K.inv;
   }
   uvec4 j0 = K.b0 + K.i0, j1 = K.b1 + K.i1;
-  uint G = c.groups;
-  return K.w0.x * uintBitsToFloat(tab[j0.x * G + j]) + K.w0.y * uintBitsToFloat(tab[j0.y * G + j]) +
-         K.w0.z * uintBitsToFloat(tab[j0.z * G + j]) + K.w0.w * uintBitsToFloat(tab[j0.w * G + j]) +
-         K.w1.x * uintBitsToFloat(tab[j1.x * G + j]) + K.w1.y * uintBitsToFloat(tab[j1.y * G + j]) +
-         K.w1.z * uintBitsToFloat(tab[j1.z * G + j]) + K.w1.w * uintBitsToFloat(tab[j1.w * G + j]);
+  vec4 v = vec4(0.0);
+  [[unroll]] for (int k = 0; k < 4; ++k)
+    v += K.w0[k] * uintBitsToFloat(tab_at(off, int(j0[k]), j)) +
+         K.w1[k] * uintBitsToFloat(tab_at(off, int(j1[k]), j));
+  return v;
 }
 // The same of the z image.
 float cssm_box_z(Kern K) {
@@ -144,11 +147,11 @@ float cssm_box_z(Kern K) {
 float cssm_lookup(Kern K, float dn, bool csm_z) {
   float delta = c.s_z * dn - c.x0;
   float v = csm_z ? 0.5 * cssm_box_z(K) : 0.5;
-  uint half_g = c.groups / 2u, base = csm_z ? half_g : 0u;
+  uint half_g = c.groups / 2u, off = csm_z ? c.half_texels : 0u;
   vec2 e1 = cssm_cis(1.0, delta), e2 = vec2(e1.x * e1.x - e1.y * e1.y, 2.0 * e1.x * e1.y);
   vec2 e = e1;  // (cos, sin) of c_k δ for the group's first term
   for (uint j = 0u; j < half_g; ++j) {
-    vec4 B = cssm_box(base + j, K);  // (cos, sin) boxes of terms 2j and 2j + 1
+    vec4 B = cssm_box(off, j, K);  // (cos, sin) boxes of terms 2j and 2j + 1
     vec2 en = vec2(e.x * e2.x - e.y * e2.y, e.x * e2.y + e.y * e2.x);
     float m = float(4u * j + 1u);
     float t = 2.0 / (3.14159265358979 * m) * (e.y * B.x - e.x * B.y) +

@@ -11,8 +11,9 @@
 layout(local_size_x = CSSM_LOCAL, local_size_y = CSSM_LOCAL) in;
 layout(std430, binding = 0) readonly buffer Cprm { CssmParams c; };
 layout(std430, binding = 1) readonly buffer Smap { float smap[]; };
-layout(std430, binding = 2) writeonly buffer Tab { uvec4 tab[]; };
-layout(std430, binding = 3) writeonly buffer Tz { uint tz[]; };
+layout(std430, binding = 2) writeonly buffer TabV { uvec4 tabv[]; };  // tab's CSM half
+layout(std430, binding = 3) writeonly buffer TabZ { uvec4 tabz[]; };  // tab's CSM-Z half
+layout(std430, binding = 4) writeonly buffer Tz { uint tz[]; };
 layout(push_constant) uniform Push { CssmPush pc; };
 layout(constant_id = 1) const bool CSSM_MIP = false;
 #include "shadowmap_cssm_common.h"
@@ -55,8 +56,8 @@ void main() {
     for (uint j = 0u; j < half_g; ++j) {
       vec4 a, b;
       block(x, y, j, a, b, az);
-      tab[i * c.groups + j] = floatBitsToUint(a);
-      tab[i * c.groups + half_g + j] = floatBitsToUint(b);
+      tabv[i * half_g + j] = floatBitsToUint(a);
+      tabz[i * half_g + j] = floatBitsToUint(b);
     }
     tz[i] = floatBitsToUint(az);
     return;
@@ -74,8 +75,8 @@ void main() {
       block(x, y, part, a, b, az);
       ra += uvec4(quant(a.x), quant(a.y), quant(a.z), quant(a.w));
       rb += uvec4(quant(b.x), quant(b.y), quant(b.z), quant(b.w));
-      tab[i * c.groups + part] = ra;
-      tab[i * c.groups + half_g + part] = rb;
+      tabv[i * half_g + part] = ra;
+      tabz[i * half_g + part] = rb;
     } else {
       block(x, y, 0u, a, b, az);
       rz += quant(az);

@@ -18,10 +18,12 @@ ISG_IO_BEGIN
 // with z ∈ [0, 1] the map depth normalised over [zmin, zmin + zrange] (background: 1) and
 // ζ = s_z·z the argument of the expansion (s_z = 1 − 2·x0 keeps the shifted step off the
 // expansion's period boundary). Layout, so that one 16-byte load reads four images at a texel:
-// buffer `tab` holds `groups` uvec4 per texel (texel e's group j at e·groups + j): groups
-// [0, groups/2) the CSM pairs (cos, sin of term 2j, then of term 2j + 1), groups [groups/2,
-// groups) the CSM-Z pairs likewise (a missing last term of odd M is zero); buffer `tz` holds
-// the z image, a uint per texel. SAT (CSSM_FILTER_SAT): texel (x, y) is the table's entry
+// buffer `tab` holds two halves of `groups`/2 uvec4 per texel, the CSM half (texel e's group j
+// at e·groups/2 + j: the cos, sin of term 2j, then of term 2j + 1) and after it, from uvec4
+// half_texels, the CSM-Z half likewise (a missing last term of odd M is zero); buffer `tz`
+// holds the z image, a uint per texel. The passes that write a half bind it alone (a storage
+// buffer's range, 128 MiB on lavapipe, holds a half: M = 16 at 1024²); the shading pass reads
+// the whole through a texel view (2^27 texels). SAT (CSSM_FILTER_SAT): texel (x, y) is the table's entry
 // (x + 1, y + 1) (the zero row and column are implicit), a 32-bit integer, modular: values
 // are quantised to sat_scale units, at most 2^30 over the largest rectangle a kernel reads,
 // so its sum, taken in wrapping uint arithmetic from four entries, is exact (Lauritzen07's
@@ -36,7 +38,7 @@ struct CssmParams {
   uint basis_shift;                    // basis texels are 2^basis_shift map texels a side
   uint max_split;                      // shadows.cssm_split: most sub-kernels a side
   uint narrow;                         // shadows.cssm_narrow: narrowed blocker searches
-  uint pad0;
+  uint half_texels;                    // uvec4s in a half of `tab` (the CSM-Z half's first)
   uint level_w[CSSM_MAX_LEVELS], level_h[CSSM_MAX_LEVELS];
   uint level_off[CSSM_MAX_LEVELS];  // first texel of each mip level (0 for the SAT)
   HsmLevelsGpu hsm;                 // the min-max HSM's levels (cssm.cpp: lit and umbra proofs)

@@ -6,8 +6,9 @@
 // the row; x walks the row's texels times the groups a texel, the z image after them.
 layout(local_size_x = CSSM_LOCAL, local_size_y = CSSM_LOCAL) in;
 layout(std430, binding = 0) readonly buffer Cprm { CssmParams c; };
-layout(std430, binding = 1) buffer Tab { uvec4 tab[]; };
-layout(std430, binding = 2) buffer Tz { uint tz[]; };
+layout(std430, binding = 1) buffer TabV { uvec4 tabv[]; };  // tab's CSM half
+layout(std430, binding = 2) buffer TabZ { uvec4 tabz[]; };  // tab's CSM-Z half
+layout(std430, binding = 3) buffer Tz { uint tz[]; };
 layout(push_constant) uniform Push { CssmPush pc; };
 
 void main() {
@@ -20,10 +21,16 @@ void main() {
   uint xa = 2u * x, xb = min(2u * x + 1u, w0 - 1u), ya = 2u * y, yb = min(2u * y + 1u, h0 - 1u);
   uvec4 t = uvec4(s + ya * w0 + xa, s + ya * w0 + xb, s + yb * w0 + xa, s + yb * w0 + xb);
   uint d = c.level_off[l] + y * w1 + x;
-  if (j < G) {
-    vec4 v = 0.25 * ((uintBitsToFloat(tab[t.x * G + j]) + uintBitsToFloat(tab[t.y * G + j])) +
-                     (uintBitsToFloat(tab[t.z * G + j]) + uintBitsToFloat(tab[t.w * G + j])));
-    tab[d * G + j] = floatBitsToUint(v);
+  uint H = G / 2u;
+  if (j < H) {
+    vec4 v = 0.25 * ((uintBitsToFloat(tabv[t.x * H + j]) + uintBitsToFloat(tabv[t.y * H + j])) +
+                     (uintBitsToFloat(tabv[t.z * H + j]) + uintBitsToFloat(tabv[t.w * H + j])));
+    tabv[d * H + j] = floatBitsToUint(v);
+  } else if (j < G) {
+    uint k = j - H;
+    vec4 v = 0.25 * ((uintBitsToFloat(tabz[t.x * H + k]) + uintBitsToFloat(tabz[t.y * H + k])) +
+                     (uintBitsToFloat(tabz[t.z * H + k]) + uintBitsToFloat(tabz[t.w * H + k])));
+    tabz[d * H + k] = floatBitsToUint(v);
   } else {
     float v = 0.25 * ((uintBitsToFloat(tz[t.x]) + uintBitsToFloat(tz[t.y])) +
                       (uintBitsToFloat(tz[t.z]) + uintBitsToFloat(tz[t.w])));

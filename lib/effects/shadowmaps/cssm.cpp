@@ -439,6 +439,13 @@ std::vector<float> cssm_reference(const ShadowmapInputs& in, const ShadowmapData
 
 namespace detail {
 namespace {
+// The shading pass's slots: `tab` as a texel view (its whole, beyond a storage buffer's range).
+std::vector<gpu::Slot> cssm_slots() {
+  std::vector<gpu::Slot> s(12, gpu::Slot::buffer);
+  s[8] = gpu::Slot::texels;
+  return s;
+}
+
 // CSSM on the GPU: basis images (one dispatch for all 4M + 1), prefiltering (the 32-bit SAT
 // scans, or one dispatch per mip level), then the shading kernel.
 class Cssm final : public ShadowmapMethod {
@@ -446,14 +453,14 @@ class Cssm final : public ShadowmapMethod {
   Cssm(gpu::Context& ctx, const ShadowmapSettings& s, const ShadowmapData& map, uint32_t w,
        uint32_t h, bool has_position)
       : basis_(ctx, "shadows.cssm.basis", isg_spv_shadowmap_cssm_basis,
-               std::vector<gpu::Slot>(4, gpu::Slot::buffer), sizeof(shaders::CssmPush),
+               std::vector<gpu::Slot>(5, gpu::Slot::buffer), sizeof(shaders::CssmPush),
                CSSM_LOCAL, CSSM_LOCAL, {0u, s.cssm_filter == "mipmap" ? 1u : 0u}),
         shade_(ctx, "shadows.cssm", isg_spv_shadowmap_cssm,
-               std::vector<gpu::Slot>(12, gpu::Slot::buffer), sizeof(shaders::ShadowmapPush),
+               cssm_slots(), sizeof(shaders::ShadowmapPush),
                SHADOWMAP_LOCAL, SHADOWMAP_LOCAL, {0u, s.cssm_filter == "mipmap" ? 1u : 0u}),
         // The pixels the search finds blockers for (shadowmap_common.h's sm_pixel_of).
         own_k_(ctx, "shadows.cssm.own", isg_spv_shadowmap_cssm,
-               std::vector<gpu::Slot>(12, gpu::Slot::buffer), sizeof(shaders::ShadowmapPush),
+               cssm_slots(), sizeof(shaders::ShadowmapPush),
                SHADOWMAP_LOCAL, SHADOWMAP_LOCAL, {1u, s.cssm_filter == "mipmap" ? 1u : 0u}),
         own_(ctx, w, h),
         hsm_levels_(detail::hsm_levels(map)),
@@ -472,7 +479,14 @@ class Cssm final : public ShadowmapMethod {
       for (size_t l = 0; l < L.w.size(); ++l) n += uint64_t(L.w[l]) * uint64_t(L.h[l]);
       return n;
     };
-    while (texels_of(u) * groups * 16u > ctx.info().max_storage_buffer_range && u.bw * u.bh > 1) {
+    // A half of `tab` within a storage buffer's range, the whole within a texel view's
+    // (shadowmap_cssm_io.h).
+    auto fits = [&](const Setup& v) {
+      const uint64_t half = texels_of(v) * (groups / 2u);
+      return half * 16u <= ctx.info().max_storage_buffer_range &&
+             2u * half <= ctx.info().max_texel_buffer_elements;
+    };
+    while (!fits(u) && u.bw * u.bh > 1) {
       ++u.shift;
       u.bw = (map.width + (1 << u.shift) - 1) >> u.shift;
       u.bh = (map.height + (1 << u.shift) - 1) >> u.shift;
@@ -504,19 +518,22 @@ class Cssm final : public ShadowmapMethod {
       c.level_off[l] = uint32_t(texels);
       texels += uint64_t(L.w[l]) * uint64_t(L.h[l]);
     }
+    // The CSM-Z half from a 256-byte boundary (any device's storage-buffer offset alignment).
+    c.half_texels = uint32_t((texels * (groups / 2u) + 15u) / 16u * 16u);
+    half_bytes_ = uint64_t(c.half_texels) * 16u;
     cparams_ = c;
     const shaders::ShadowmapParams p = shadowmap_params(s, map, w, h, has_position, 0u);
     params_ = gpu::Buffer(ctx, sizeof(p), "shadowmap.params");
     params_.upload(&p, sizeof(p));
     cssm_params_ = gpu::Buffer(ctx, sizeof(c), "shadowmap.cssm.params");
     cssm_params_.upload(&c, sizeof(c));
-    tab_ = gpu::Buffer(ctx, texels * groups * 16u, u.sat ? "shadowmap.cssm.sat" : "shadowmap.cssm.mip");
+    tab_ = gpu::Buffer(ctx, 2u * half_bytes_, u.sat ? "shadowmap.cssm.sat" : "shadowmap.cssm.mip");
     tz_ = gpu::Buffer(ctx, texels * 4u, u.sat ? "shadowmap.cssm.sat_z" : "shadowmap.cssm.mip_z");
     if (u.sat)
       scan_.emplace(ctx);
     else
       mip_.emplace(ctx, "shadows.cssm.mip", isg_spv_shadowmap_cssm_mip,
-                   std::vector<gpu::Slot>(3, gpu::Slot::buffer), sizeof(shaders::CssmPush),
+                   std::vector<gpu::Slot>(4, gpu::Slot::buffer), sizeof(shaders::CssmPush),
                    CSSM_LOCAL, CSSM_LOCAL);
     stats_ = zeroed_stats(ctx);
   }
@@ -528,21 +545,22 @@ class Cssm final : public ShadowmapMethod {
     hsm_.record(seq, map, label);
     shaders::CssmPush bp{map_w_, map_h_, 0u, 0u};
     const std::vector<gpu::Binding> bb{gpu::Binding::of(cssm_params_), gpu::Binding::of(map),
-                                       gpu::Binding::of(tab_), gpu::Binding::of(tz_)};
+                                       tab_half(0), tab_half(1), gpu::Binding::of(tz_)};
     if (scan_) {
       // A lane per basis row and part (shadowmap_cssm_basis.comp), the rows summed; then the
       // columns.
       const uint32_t lines = c.level_h[0] * (c.groups / 2u + 1u);
       seq.dispatch(basis_, bb, bp, CSSM_BASIS_ROW, (lines + CSSM_BASIS_ROW - 1) / CSSM_BASIS_ROW,
                    label + ".basis");
-      scan_->record(seq, tab_, c.level_w[0], c.level_h[0], 4u * c.groups, label + ".sat", false);
-      scan_->record(seq, tz_, c.level_w[0], c.level_h[0], 1u, label + ".sat_z", false);
+      scan_->record(seq, tab_half(0), c.level_w[0], c.level_h[0], 2u * c.groups, label + ".sat", false);
+      scan_->record(seq, tab_half(1), c.level_w[0], c.level_h[0], 2u * c.groups, label + ".sat", false);
+      scan_->record(seq, gpu::Binding::of(tz_), c.level_w[0], c.level_h[0], 1u, label + ".sat_z", false);
     } else {
       seq.dispatch(basis_, bb, bp, c.level_w[0], c.level_h[0], label + ".basis");
       for (uint32_t l = 1; l < c.levels; ++l) {
         shaders::CssmPush mp{c.level_w[l], c.level_h[l], l, 0u};
         seq.dispatch(*mip_,
-                     {gpu::Binding::of(cssm_params_), gpu::Binding::of(tab_), gpu::Binding::of(tz_)},
+                     {gpu::Binding::of(cssm_params_), tab_half(0), tab_half(1), gpu::Binding::of(tz_)},
                      mp, c.level_w[l] * (c.groups + 1u), c.level_h[l], label + ".mip");
       }
     }
@@ -550,13 +568,16 @@ class Cssm final : public ShadowmapMethod {
     const std::vector<gpu::Binding> b{
         gpu::Binding::of(params_), gpu::Binding::of(cssm_params_), gpu::Binding::of(geo),
         gpu::Binding::of(fg), gpu::Binding::of(hard), gpu::Binding::of(map),
-        gpu::Binding::of(soft), gpu::Binding::of(stats_), gpu::Binding::of(tab_),
+        gpu::Binding::of(soft), gpu::Binding::of(stats_),
+        gpu::Binding::texels(tab_, VK_FORMAT_R32G32B32A32_UINT),
         gpu::Binding::of(tz_), gpu::Binding::of(hsm_.buffer()), gpu::Binding::of(own_.buffer())};
     own_.reset(seq, label + ".list");
     seq.dispatch(shade_, b, pc, w_, h_, label);
     own_.dispatch(seq, own_k_, b, pc, label + ".own");
   }
   ShadowmapStats stats() const override { return read_stats(stats_); }
+  // Half k of `tab` (0: CSM, 1: CSM-Z) as a storage buffer of its own.
+  gpu::Binding tab_half(int k) const { return gpu::Binding::part(tab_, k * half_bytes_, half_bytes_); }
   uint64_t gpu_bytes() const override {
     return params_.size() + cssm_params_.size() + stats_.size() + tab_.size() + tz_.size() +
            hsm_.buffer().size() + own_.buffer().size();
@@ -571,6 +592,7 @@ class Cssm final : public ShadowmapMethod {
   std::optional<SatScan32> scan_;   // the SAT filter's
   gpu::Buffer params_, cssm_params_, stats_, tab_, tz_;
   shaders::CssmParams cparams_{};
+  uint64_t half_bytes_ = 0;
   uint32_t w_, h_, map_w_, map_h_;
 };
 }  // namespace

@@ -81,12 +81,12 @@ SatScan32::SatScan32(gpu::Context& ctx)
     : scan_(ctx, "sat.scan32", isg_spv_sat_scan32, {gpu::Slot::buffer}, sizeof(shaders::SatPush),
             SAT_LINES, 1) {}
 
-void SatScan32::record(gpu::Sequence& seq, const gpu::Buffer& sat, uint32_t w, uint32_t h,
+void SatScan32::record(gpu::Sequence& seq, const gpu::Binding& sat, uint32_t w, uint32_t h,
                        uint32_t words, const std::string& label, bool rows) {
   shaders::SatPush pc{w, h, 0u, 1u, 0.0f, 1.0f, 1e30f, 0.0f, words, 0u};
-  if (rows) seq.dispatch(scan_, {gpu::Binding::of(sat)}, pc, h * words, 1, label + ".rows");
+  if (rows) seq.dispatch(scan_, {sat}, pc, h * words, 1, label + ".rows");
   pc.axis = 1u;
-  seq.dispatch(scan_, {gpu::Binding::of(sat)}, pc, w * words, 1, label + ".columns");
+  seq.dispatch(scan_, {sat}, pc, w * words, 1, label + ".columns");
 }
 
 }  // namespace isg::effects

@@ -39,7 +39,7 @@ class SatScan32 {
  public:
   explicit SatScan32(gpu::Context& ctx);
   // rows = false: the columns only (rows already summed, e.g. by cssm's basis pass).
-  void record(gpu::Sequence& seq, const gpu::Buffer& sat, uint32_t w, uint32_t h, uint32_t words,
+  void record(gpu::Sequence& seq, const gpu::Binding& sat, uint32_t w, uint32_t h, uint32_t words,
               const std::string& label, bool rows = true);
 
  private:
