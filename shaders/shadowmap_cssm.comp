@@ -60,11 +60,13 @@ struct Kern {
 };
 
 // Block units (the basis's texels): `bound` the map's extent, `n` the basis size. The SAT's box
-// snapped to whole texels: edges at the nearest texel boundary, at least one texel wide.
+// snapped to whole texels: edges at the nearest texel boundary, widened to hold the texel of
+// its centre (a box narrower than a texel would else snap to its neighbour).
 void kern_axis(float qc, float h, float bound, uint size, out ivec4 X, out vec3 w, out float len) {
   float lo = max(qc - h, 0.0), hi = min(qc + h, bound);
-  int n = int(size);
-  int X0 = clamp(int(floor(lo + 0.5)), 0, n - 1), X1 = clamp(int(floor(hi + 0.5)), X0 + 1, n);
+  int n = int(size), cx = clamp(int(floor(qc)), 0, n - 1);
+  int X0 = clamp(min(int(floor(lo + 0.5)), cx), 0, n - 1);
+  int X1 = clamp(max(int(floor(hi + 0.5)), cx + 1), X0 + 1, n);
   X = ivec4(X0, X1, 0, 0);
   w = vec3(float(X1 - X0), 0.0, 0.0);
   len = hi - lo;

@@ -6,8 +6,6 @@
 // CSM-Z pairs, or the z image) walks the row, quantises each texel's values to 32-bit integers
 // and writes their running sums along the row (the row scan of the SAT; sat_scan32 adds the
 // columns next). Mipmap (CSSM_MIP): a lane per texel writes level 0 as float bits.
-// The terms' (cos, sin) of c_k ζ by rotation, e^{iπ(2k+1)ζ} = e^{iπζ} (e^{2iπζ})^k: one sin and
-// cos a texel (eq. 5.10's argument reduction in cssm_cis), not M.
 layout(local_size_x = CSSM_LOCAL, local_size_y = CSSM_LOCAL) in;
 layout(std430, binding = 0) readonly buffer Cprm { CssmParams c; };
 layout(std430, binding = 1) readonly buffer Smap { float smap[]; };
@@ -32,10 +30,8 @@ void block(uint x, uint y, uint j, out vec4 a, out vec4 b, out float az) {
   for (uint yy = y * F; yy < y1; ++yy)
     for (uint xx = x * F; xx < x1; ++xx) {
       float z = cssm_norm(smap[yy * pc.width + xx]);
-      vec2 e1 = cssm_cis(1.0, c.s_z * z), e2 = vec2(e1.x * e1.x - e1.y * e1.y, 2.0 * e1.x * e1.y);
-      vec2 e = e1;
-      for (uint k = 0u; k < 2u * j; ++k) e = vec2(e.x * e2.x - e.y * e2.y, e.x * e2.y + e.y * e2.x);
-      vec2 en = second ? vec2(e.x * e2.x - e.y * e2.y, e.x * e2.y + e.y * e2.x) : vec2(0.0);
+      vec2 e = cssm_cis(float(4u * j + 1u), c.s_z * z);
+      vec2 en = second ? cssm_cis(float(4u * j + 3u), c.s_z * z) : vec2(0.0);
       a += vec4(e, en);
       b += z * vec4(e, en);
       az += z;

@@ -275,12 +275,14 @@ class Prefiltered {
       auto S = [&](int x, int y) { return t[size_t(y) * (W_ + 1) + x]; };
       const double x0 = std::max(qx - hx, 0.0), x1 = std::min(qx + hx, Wf_);
       const double y0 = std::max(qy - hy, 0.0), y1 = std::min(qy + hy, Hf_);
-      // The box snapped to whole texels (the nearest boundaries, at least one texel): four
-      // corners of the table, an exact integer sum (see the top of the file).
-      const int X0 = std::clamp(int(std::floor(x0 + 0.5)), 0, W_ - 1);
-      const int X1 = std::clamp(int(std::floor(x1 + 0.5)), X0 + 1, W_);
-      const int Y0 = std::clamp(int(std::floor(y0 + 0.5)), 0, H_ - 1);
-      const int Y1 = std::clamp(int(std::floor(y1 + 0.5)), Y0 + 1, H_);
+      // The box snapped to whole texels (the nearest boundaries, widened to hold the texel of
+      // its centre): four corners of the table, an exact integer sum (see the top of the file).
+      const int cx = std::clamp(int(std::floor(qx)), 0, W_ - 1);
+      const int cy = std::clamp(int(std::floor(qy)), 0, H_ - 1);
+      const int X0 = std::clamp(std::min(int(std::floor(x0 + 0.5)), cx), 0, W_ - 1);
+      const int X1 = std::clamp(std::max(int(std::floor(x1 + 0.5)), cx + 1), X0 + 1, W_);
+      const int Y0 = std::clamp(std::min(int(std::floor(y0 + 0.5)), cy), 0, H_ - 1);
+      const int Y1 = std::clamp(std::max(int(std::floor(y1 + 0.5)), cy + 1), Y0 + 1, H_);
       return (S(X1, Y1) - S(X0, Y1) - S(X1, Y0) + S(X0, Y0)) / (double(X1 - X0) * double(Y1 - Y0));
     }
     const int levels = int(L_.w.size());
