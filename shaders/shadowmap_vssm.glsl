@@ -44,7 +44,8 @@ layout(binding = 3) uniform samplerBuffer hard;
 layout(binding = 4) uniform samplerBuffer smap;
 layout(std430, binding = 5) readonly buffer Vprm { VssmParams v; };
 layout(binding = 6) uniform samplerBuffer hsm;
-layout(binding = 7) uniform usamplerBuffer sat;  // the SATs of z and (z − z0)², interleaved
+layout(binding = 7) uniform usamplerBuffer sat1;  // the SATs of z
+layout(binding = 11) uniform usamplerBuffer sat2;  // and of (z − z0)²
 layout(std430, binding = 8) writeonly buffer Soft { float soft[]; };
 layout(std430, binding = 9) buffer Stats { uint stats[]; };
 layout(std430, binding = 10) buffer Own { uint own[]; };
@@ -70,7 +71,8 @@ uvec2 add64(uvec2 a, uvec2 b) {
 // Entry (x, y) of both SATs (xy: z, zw: (z − z0)²); 0 on the zero row and column.
 uvec4 sat_at(int x, int y) {
   if (x <= 0 || y <= 0) return uvec4(0u);
-  return texelFetch(sat, int(uint(y - 1) * p.map_w + uint(x - 1)));
+  int i = int(uint(y - 1) * p.map_w + uint(x - 1));
+  return uvec4(texelFetch(sat1, i).xy, texelFetch(sat2, i).xy);
 }
 // A continuous interval [a, b) of texels as three integer runs with weights: the partly covered
 // first texel, the whole ones, the partly covered last one (the box filter of the exact width,
@@ -90,7 +92,7 @@ R to_real(uvec2 s) { return R(int(s.y)) * R(4294967296.0) + R(s.x); }
 
 // The moments of one sub-kernel [lo, hi): area T, mean E(z), E((z − z0)²) (ezf: E(z) in float;
 // var: the variance). Both box sums come from the 4 x 4 SAT entries at the runs' edges (one
-// texel fetch each for both tables), each run's rectangle exact in the integers.
+// fetch from each table), each run's rectangle exact in the integers.
 struct Moments { float T; R ez, ez2; float ezf, var; };
 float variance(R ez, R ez2) { return float(max(ez2 - (ez - R(v.z0)) * (ez - R(v.z0)), R(0.0))); }
 Moments moments(vec2 lo, vec2 hi) {

@@ -320,7 +320,7 @@ std::span<const uint32_t> vssm_spirv(gpu::Context& ctx) {
 std::vector<gpu::Slot> vssm_slots() {
   return {gpu::Slot::buffer, gpu::Slot::texels, gpu::Slot::texels, gpu::Slot::texels,
           gpu::Slot::texels, gpu::Slot::buffer, gpu::Slot::texels, gpu::Slot::texels,
-          gpu::Slot::buffer, gpu::Slot::buffer, gpu::Slot::buffer};
+          gpu::Slot::buffer, gpu::Slot::buffer, gpu::Slot::buffer, gpu::Slot::texels};
 }
 
 class Vssm final : public detail::ShadowmapMethod {
@@ -345,7 +345,10 @@ class Vssm final : public detail::ShadowmapMethod {
     vparams_ = gpu::Buffer(ctx, sizeof(vp), "vssm.vparams");
     vparams_.upload(&vp, sizeof(vp));
     const size_t texels = map.z.size();
-    sat_ = gpu::Buffer(ctx, texels * 16, "vssm.sat");  // z and (z − z0)², interleaved
+    // The SATs of z and (z − z0)², a buffer each: interleaved, a 4096² map's pair (256 MiB)
+    // would exceed a storage buffer's range on lavapipe (128 MiB) in sat.quantize and sat.scan.
+    sat1_ = gpu::Buffer(ctx, texels * 8, "vssm.sat_z");
+    sat2_ = gpu::Buffer(ctx, texels * 8, "vssm.sat_z2");
     stats_ = detail::zeroed_stats(ctx);
   }
   void record(gpu::Sequence& seq, const gpu::Buffer& geo, const gpu::Buffer& fg,
@@ -353,21 +356,23 @@ class Vssm final : public detail::ShadowmapMethod {
               const std::string& label) override {
     // Min-max HSM, level by level (thesis §7.5.1); level 0 is the map itself.
     hsm_.record(seq, map, label);
-    sat_pass_.record(seq, map, sat_, mw_, mh_, {v_.f1, v_.f2}, label + ".sat");
+    sat_pass_.record(seq, map, sat1_, mw_, mh_, {v_.f1}, label + ".sat_z");
+    sat_pass_.record(seq, map, sat2_, mw_, mh_, {v_.f2}, label + ".sat_z2");
     shaders::ShadowmapPush pc{w_, h_};
     const std::vector<gpu::Binding> b{
         gpu::Binding::of(params_), gpu::Binding::floats(geo), gpu::Binding::floats(fg),
         gpu::Binding::floats(hard), gpu::Binding::floats(map), gpu::Binding::of(vparams_),
         gpu::Binding::texels(hsm_.buffer(), VK_FORMAT_R32G32_SFLOAT),
-        gpu::Binding::texels(sat_, VK_FORMAT_R32G32B32A32_UINT), gpu::Binding::of(soft),
-        gpu::Binding::of(stats_), gpu::Binding::of(own_.buffer())};
+        gpu::Binding::texels(sat1_, VK_FORMAT_R32G32_UINT), gpu::Binding::of(soft),
+        gpu::Binding::of(stats_), gpu::Binding::of(own_.buffer()),
+        gpu::Binding::texels(sat2_, VK_FORMAT_R32G32_UINT)};
     own_.reset(seq, label + ".list");
     seq.dispatch(shade_k_, b, pc, w_, h_, label);
     own_.dispatch(seq, own_k_, b, pc, label + ".own");
   }
   ShadowmapStats stats() const override { return detail::read_stats(stats_); }
   uint64_t gpu_bytes() const override {
-    return params_.size() + vparams_.size() + hsm_.buffer().size() + sat_.size() + own_.buffer().size() +
+    return params_.size() + vparams_.size() + hsm_.buffer().size() + sat1_.size() + sat2_.size() + own_.buffer().size() +
            stats_.size();
   }
 
@@ -377,7 +382,7 @@ class Vssm final : public detail::ShadowmapMethod {
   gpu::Kernel shade_k_, own_k_;
   detail::OwnList own_;
   SatPass sat_pass_;
-  gpu::Buffer params_, vparams_, sat_, stats_;
+  gpu::Buffer params_, vparams_, sat1_, sat2_, stats_;
   uint32_t w_, h_, mw_, mh_;
 };
 }  // namespace
