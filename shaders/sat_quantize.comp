@@ -14,5 +14,5 @@ void main() {
   precise float w = pc.power == 2u ? v * v : v;
   precise float d = (w - pc.offset) * pc.scale;
   int q = int(floor(d + 0.5));
-  sat[i * pc.tables + pc.table] = uvec2(uint(q), q < 0 ? 0xffffffffu : 0u);
+  sat[i] = uvec2(uint(q), q < 0 ? 0xffffffffu : 0u);
 }

@@ -7,8 +7,8 @@
 // shared-memory scan of the lanes' chunk sums, spent its time starting 256 coroutines a line
 // and in 16 barriers: 4.3 s for CSSM's 33 tables of 1024², now 0.8 s.) 64-bit adds with carry:
 // the sums are exact integers, so no entry depends on the order of the additions.
-// The entries of pc.tables interleaved tables (sat_io.h) are scanned by one dispatch: the
-// invocation's y index picks the table.
+// A stack of width x height tables, one after the other, is scanned by one dispatch: the
+// invocation's y index picks the table (0 for a single table).
 layout(local_size_x = SAT_LINES, local_size_y = 1) in;
 layout(std430, binding = 0) buffer Sat { uvec2 sat[]; };
 layout(push_constant) uniform Push { SatPush pc; };
@@ -24,8 +24,8 @@ void main() {
   uint len = pc.axis == 0u ? pc.width : pc.height;
   uint lines = pc.axis == 0u ? pc.height : pc.width;
   if (line >= lines) return;
-  uint base = (pc.axis == 0u ? line * pc.width : line) * pc.tables + gl_GlobalInvocationID.y;
-  uint stride = (pc.axis == 0u ? 1u : pc.width) * pc.tables;
+  uint base = gl_GlobalInvocationID.y * pc.width * pc.height + (pc.axis == 0u ? line * pc.width : line);
+  uint stride = pc.axis == 0u ? 1u : pc.width;
   uvec2 run = uvec2(0u);
   for (uint j = 0u; j < len; ++j) {
     uint k = base + j * stride;

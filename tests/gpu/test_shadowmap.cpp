@@ -333,7 +333,7 @@ TEST_F(ShadowmapGpu, SatMatchesDoubleSatOnLargeMap) {
   for (int power : {1, 2}) {
     auto fp = fx::sat_fixed_point(z, power, far_z);
     gpu::Sequence seq(ctx());
-    pass.record(seq, mb, sb, w, h, {fp}, "sat");
+    pass.record(seq, mb, sb, w, h, fp, "sat");
     auto t = seq.submit();
     double ms = 0;
     for (const auto& p : t) ms += p.ms;

@@ -285,7 +285,6 @@ class OwnList {
     seq.dispatch_indirect(k, b, push, list_, 4, label);
   }
   const gpu::Buffer& buffer() const { return list_; }
-  uint32_t listed() const;  // after the sequence ran
 
  private:
   gpu::Buffer list_, empty_;

@@ -60,21 +60,14 @@ SatPass::SatPass(gpu::Context& ctx)
             SAT_LINES, 1) {}
 
 void SatPass::record(gpu::Sequence& seq, const gpu::Buffer& map, const gpu::Buffer& sat,
-                     uint32_t w, uint32_t h, const std::vector<SatFixedPoint>& fps,
-                     const std::string& label) {
-  const auto tables = uint32_t(fps.size());
-  for (uint32_t t = 0; t < tables; ++t) {
-    const auto& fp = fps[t];
-    shaders::SatPush pc{w, h, 0u, uint32_t(fp.power), float(fp.offset), float(fp.scale),
-                        float(std::min(fp.far_z, 1e30)), float(fp.shift), tables, t};
-    seq.dispatch(quantize_, {gpu::Binding::of(map), gpu::Binding::of(sat)}, pc, w, h,
-                 label + ".quantize" + (tables > 1 ? std::to_string(t + 1) : ""));
-  }
-  // One invocation a line; the second dispatch dimension walks the interleaved tables.
-  shaders::SatPush pc{w, h, 0u, 1u, 0.0f, 1.0f, 1e30f, 0.0f, tables, 0u};
-  seq.dispatch(scan_, {gpu::Binding::of(sat)}, pc, h, tables, label + ".rows");
+                     uint32_t w, uint32_t h, const SatFixedPoint& fp, const std::string& label) {
+  shaders::SatPush pc{w, h, 0u, uint32_t(fp.power), float(fp.offset), float(fp.scale),
+                      float(std::min(fp.far_z, 1e30)), float(fp.shift), 1u, 0u};
+  seq.dispatch(quantize_, {gpu::Binding::of(map), gpu::Binding::of(sat)}, pc, w, h,
+               label + ".quantize");
+  seq.dispatch(scan_, {gpu::Binding::of(sat)}, pc, h, 1, label + ".rows");  // a lane a line
   pc.axis = 1u;
-  seq.dispatch(scan_, {gpu::Binding::of(sat)}, pc, w, tables, label + ".columns");
+  seq.dispatch(scan_, {gpu::Binding::of(sat)}, pc, w, 1, label + ".columns");
 }
 
 SatScan32::SatScan32(gpu::Context& ctx)

@@ -49,11 +49,9 @@ class SatScan32 {
 class SatPass {
  public:
   explicit SatPass(gpu::Context& ctx);
-  // Records quantize, row scan and column scan: `sat` (w·h·8 bytes a table) from `map` (w·h
-  // floats), one table per fixed point, interleaved entry by entry (sat_io.h: entry i of table
-  // t at i·tables + t, so one 16-byte texel holds two tables' entries).
+  // Records quantize, row scan and column scan: `sat` (w·h·8 bytes) from `map` (w·h floats).
   void record(gpu::Sequence& seq, const gpu::Buffer& map, const gpu::Buffer& sat, uint32_t w,
-              uint32_t h, const std::vector<SatFixedPoint>& fps, const std::string& label);
+              uint32_t h, const SatFixedPoint& fp, const std::string& label);
 
  private:
   gpu::Kernel quantize_, scan_;

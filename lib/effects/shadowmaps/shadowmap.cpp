@@ -215,8 +215,6 @@ void OwnList::reset(gpu::Sequence& seq, const std::string& label) const {
   seq.copy(empty_, list_, empty_.size(), label);
 }
 
-uint32_t OwnList::listed() const { return list_.download_as<uint32_t>(1)[0]; }
-
 ShadowmapStats read_stats(const gpu::Buffer& stats) {
   auto v = stats.download_as<uint32_t>(SHADOWMAP_STATS);
   ShadowmapStats s;

@@ -356,8 +356,8 @@ class Vssm final : public detail::ShadowmapMethod {
               const std::string& label) override {
     // Min-max HSM, level by level (thesis §7.5.1); level 0 is the map itself.
     hsm_.record(seq, map, label);
-    sat_pass_.record(seq, map, sat1_, mw_, mh_, {v_.f1}, label + ".sat_z");
-    sat_pass_.record(seq, map, sat2_, mw_, mh_, {v_.f2}, label + ".sat_z2");
+    sat_pass_.record(seq, map, sat1_, mw_, mh_, v_.f1, label + ".sat_z");
+    sat_pass_.record(seq, map, sat2_, mw_, mh_, v_.f2, label + ".sat_z2");
     shaders::ShadowmapPush pc{w_, h_};
     const std::vector<gpu::Binding> b{
         gpu::Binding::of(params_), gpu::Binding::floats(geo), gpu::Binding::floats(fg),
