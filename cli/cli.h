@@ -63,6 +63,7 @@ int cmd_compare(const std::string& a_path, const std::string& b_path, const std:
                 const std::vector<std::string>& channels, bool as_json,
                 const std::string& heatmap_path, double heatmap_max);
 int cmd_roofline(const roofline::Options& opt, const std::string& device, bool as_json);
+std::string version_text();
 int cmd_devices();
 int cmd_params(bool markdown);
 int cmd_presets();

@@ -9,6 +9,7 @@
 #include <sstream>
 
 #include "cli.h"
+#include "isg_version.h"
 #include "effects/params.h"
 #include "effects/shadows/settings.h"
 #include "gpu/gpu.h"
@@ -209,6 +210,25 @@ int cmd_roofline(const isg::roofline::Options& opt, const std::string& device, b
   }
   std::cout << j.dump(2) << "\n";
   return kOk;
+}
+
+// `isg --version`: the first line for help2man and bug reports, then the Vulkan devices that a
+// run would choose from (the first is the default), as `isg devices` lists them.
+std::string version_text() {
+  std::ostringstream o;
+  o << "isg " << ISG_VERSION << " (commit " << ISG_COMMIT << ")\n";
+  try {
+    auto devs = isg::gpu::list_devices();
+    if (devs.empty()) o << "Vulkan: no devices (install a driver: mesa-vulkan-drivers)";
+    for (size_t k = 0; k < devs.size(); ++k) {
+      const auto& d = devs[k];
+      o << (k ? "\n" : "") << "Vulkan device " << d.index << ": " << d.name << " (" << d.type_name << ", Vulkan "
+        << VK_API_VERSION_MAJOR(d.api_version) << "." << VK_API_VERSION_MINOR(d.api_version) << ")";
+    }
+  } catch (const std::exception& e) {
+    o << "Vulkan: unavailable (" << e.what() << ")";
+  }
+  return o.str();
 }
 
 int cmd_devices() {

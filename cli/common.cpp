@@ -4,10 +4,7 @@
 #include "cli.h"
 #include "effects/output_params.h"
 #include "effects/params.h"
-
-#ifndef ISG_SOURCE_PRESETS
-#define ISG_SOURCE_PRESETS ""
-#endif
+#include "run/install.h"
 
 namespace isg::cli {
 
@@ -17,21 +14,7 @@ double ms_since(Clock::time_point t) {
   return std::chrono::duration<double, std::milli>(Clock::now() - t).count();
 }
 
-std::vector<fs::path> preset_dirs() {
-  std::vector<fs::path> dirs;
-  if (const char* env = std::getenv("ISG_PRESET_PATH")) {
-    std::stringstream ss(env);
-    std::string d;
-    while (std::getline(ss, d, ':'))
-      if (!d.empty()) dirs.emplace_back(d);
-  }
-  std::error_code ec;
-  fs::path exe = fs::read_symlink("/proc/self/exe", ec);
-  if (!ec) dirs.push_back(exe.parent_path().parent_path() / "share" / "isg" / "presets");
-  if (std::string(ISG_SOURCE_PRESETS).size()) dirs.emplace_back(ISG_SOURCE_PRESETS);
-  return dirs;
-}
-
+std::vector<fs::path> preset_dirs() { return isg::run::executable_layout().preset_dirs; }
 
 void add_common(CLI::App* app, Common& c) {
   app->add_option("--scene", c.scene, "scene file (JSON, AOV_CONTRACT.md input 3)");
@@ -94,9 +77,7 @@ isg::io::ReadLimits limits_of(const isg::params::Params& p) {
   l.max_channels = int(p.get(isg::effects::output_keys::max_channels));
   l.max_bytes = int64_t(p.get(isg::effects::output_keys::max_memory_mb)) << 20;
   l.check_seconds = p.get(isg::effects::output_keys::check_seconds);
-  std::error_code ec;
-  fs::path exe = fs::read_symlink("/proc/self/exe", ec);
-  if (!ec) l.checker = (exe.parent_path() / "isg-exrcheck").string();
+  l.checker = isg::run::executable_layout().exrcheck.string();
   return l;
 }
 

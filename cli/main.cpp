@@ -11,7 +11,7 @@ using namespace isg::cli;
 
 int main(int argc, char** argv) {
   CLI::App app{"isg: soft shadows, glossy reflections and depth of field from a renderer's AOVs"};
-  app.set_version_flag("--version", ISG_VERSION);
+  app.set_version_flag("--version", version_text, "print the version, the commit and the Vulkan devices");
   app.require_subcommand(1);
 
   RunArgs ra;

@@ -1,46 +1,33 @@
 #include "options.h"
 
-#include <cstdlib>
-#include <filesystem>
-#include <sstream>
-
 #include "effects/params.h"
+#include "run/install.h"
 
 #ifndef ISG_VERSION
 #define ISG_VERSION "0.0.0"
 #endif
-#ifndef ISG_SOURCE_PRESETS
-#define ISG_SOURCE_PRESETS ""
-#endif
-#ifndef ISG_EXRCHECK
-#define ISG_EXRCHECK ""
+// The relative path from the module's folder to the install prefix
+// (python/CMakeLists.txt: lib/python3/dist-packages -> ../../..).
+#ifndef ISG_PYTHON_TO_PREFIX
+#define ISG_PYTHON_TO_PREFIX "../../.."
 #endif
 
 namespace isg::python {
 
-namespace fs = std::filesystem;
-
 namespace {
 
-// As the CLI looks for presets, less the executable's own folder: $ISG_PRESET_PATH
-// (colon-separated), then the source tree the module was built from.
-std::vector<fs::path> preset_dirs() {
-  std::vector<fs::path> dirs;
-  if (const char* env = std::getenv("ISG_PRESET_PATH")) {
-    std::stringstream ss(env);
-    std::string d;
-    while (std::getline(ss, d, ':'))
-      if (!d.empty()) dirs.emplace_back(d);
-  }
-  if (std::string(ISG_SOURCE_PRESETS).size()) dirs.emplace_back(ISG_SOURCE_PRESETS);
-  return dirs;
+// Where the module finds presets and isg-exrcheck: by its own file, as the CLI does by its
+// executable (run/install.h).
+run::Layout module_layout() {
+  static const int anchor = 0;
+  return run::layout_of(run::object_file_of(&anchor), ISG_PYTHON_TO_PREFIX);
 }
 
 }  // namespace
 
 run::JobConfig make_job(const Options& o) {
   auto p = effects::default_params();
-  if (!o.preset.empty()) p.load_preset(o.preset, preset_dirs());
+  if (!o.preset.empty()) p.load_preset(o.preset, module_layout().preset_dirs);
   if (!o.compression.empty()) p.set_text("output.compression", o.compression, "compression");
   for (const auto& s : o.sets) {
     const auto eq = s.find('=');
@@ -74,12 +61,7 @@ run::JobConfig make_job(const Options& o) {
   l.check_seconds = job.params.number("limits.check_seconds");
   // Pixels are decoded in the isg-exrcheck child where it is (as the CLI does); the same bits
   // either way.
-  std::error_code ec;
-  if (const char* env = std::getenv("ISG_EXRCHECK"); env && fs::exists(env, ec)) {
-    l.checker = env;
-  } else if (fs::exists(ISG_EXRCHECK, ec)) {
-    l.checker = ISG_EXRCHECK;
-  }
+  l.checker = module_layout().exrcheck.string();
   job.write = {job.params.choice("output.compression"), o.no_clobber};
   return job;
 }

@@ -13,7 +13,7 @@ case "$mode" in demo|test|bench|cases) ;; *) echo "usage: $0 demo|test|bench|cas
 cd "$(dirname "$0")/.."
 
 # Debian 12 packages only; nothing vendored.
-pkgs=(cmake ninja-build g++ pkg-config
+pkgs=(cmake ninja-build g++ pkg-config help2man dpkg-dev man-db
       libopenimageio-dev libopenexr-dev
       libopencolorio-dev libvulkan-dev mesa-vulkan-drivers vulkan-validationlayers glslang-tools
       libcli11-dev libtomlplusplus-dev nlohmann-json3-dev libgtest-dev)

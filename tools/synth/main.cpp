@@ -14,6 +14,7 @@ int main(int argc, char** argv) {
   double light_radius = 0, roughness = 0, fstop = 0;
 
   CLI::App app{"isg-synth: ground-truth AOVs and distribution-ray-traced references"};
+  app.set_version_flag("--version", "isg-synth " ISG_VERSION);
   app.add_option("scene", o.scene, "scene name (see --list)");
   app.add_option("--out", out, "output folder");
   app.add_option("--width", o.width, "image width")->capture_default_str();
@@ -36,6 +37,8 @@ int main(int argc, char** argv) {
   try {
     app.parse(argc, argv);
   } catch (const CLI::CallForHelp& e) {
+    return app.exit(e);
+  } catch (const CLI::CallForVersion& e) {
     return app.exit(e);
   } catch (const CLI::ParseError& e) {
     std::fprintf(stderr, "isg-synth: error: %s\n", e.what());
