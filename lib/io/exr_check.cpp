@@ -7,6 +7,7 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cstring>
 #include <fstream>
@@ -80,6 +81,26 @@ int lines_per_chunk(int compression) {
 }
 
 int64_t ceil_div(int64_t a, int64_t b) { return (a + b - 1) / b; }
+
+// The most pixel bytes one byte of a chunk's data can decode to, for each compression (issue 54):
+// a header whose chunks claim more than their bytes can hold was not written by an encoder, and
+// is refused before anything is allocated for it. Deflate tops out at 1032:1 (258 bytes from 2
+// bits); rle at 64:1 (a 2-byte run of 128); piz's Huffman at about 410:1 (a run of 256 shorts in
+// 10 bits); pxr24 stores 24 of a float's 32 bits before deflate; b44a packs a flat 4x4 block of
+// halves (32 bytes) in 3; dwa's constant 8x8 blocks leave one code per block before deflate.
+// Each bound is rounded up: none of them refuses a file an encoder wrote.
+const char* const kCompressionNames[] = {"none", "rle", "zips", "zip", "piz", "pxr24", "b44", "b44a", "dwaa", "dwab"};
+int64_t max_ratio(int compression) {
+  switch (compression) {
+    case 0: return 1;                    // none: the chunk holds exactly its pixels
+    case 1: return 128;                  // rle
+    case 2: case 3: return 1032;         // zips, zip
+    case 4: return 1024;                 // piz
+    case 5: return 1400;                 // pxr24
+    case 6: case 7: return 11;           // b44, b44a
+    default: return int64_t(1032) * 128; // dwaa, dwab
+  }
+}
 
 int64_t level_count(int64_t size, int rounding) {
   int64_t n = 1;
@@ -242,11 +263,20 @@ ExrLayout check_exr_structure(const fs::path& path, const ReadLimits& limits) {
       r.fail(part + ": data window " + std::to_string(P.width()) + "x" + std::to_string(P.height()) +
              " exceeds the limit of " + std::to_string(limits.max_pixels) + " pixels (limits.max_megapixels)");
     }
-    if (!L.parts.empty()) {
-      const auto& first = L.parts.front();
-      if (std::memcmp(first.data_window, P.data_window, sizeof P.data_window) != 0) {
-        r.fail(part + " has a different data window from part 0 (all parts must share one)");
-      }
+    // Parts may cover different data windows (a beauty whole, AOVs cropped to their bounding
+    // box): the image is their union, each part placed in it (read_exr).
+    if (L.parts.empty()) {
+      std::memcpy(L.window, P.data_window, sizeof L.window);
+    } else {
+      L.window[0] = std::min(L.window[0], P.data_window[0]);
+      L.window[1] = std::min(L.window[1], P.data_window[1]);
+      L.window[2] = std::max(L.window[2], P.data_window[2]);
+      L.window[3] = std::max(L.window[3], P.data_window[3]);
+    }
+    const int64_t union_pixels = (int64_t(L.window[2]) - L.window[0] + 1) * (int64_t(L.window[3]) - L.window[1] + 1);
+    if (union_pixels > limits.max_pixels) {
+      r.fail("the parts' data windows span " + std::to_string(union_pixels) + " pixels, over the limit of " +
+             std::to_string(limits.max_pixels) + " (limits.max_megapixels)");
     }
     const uint64_t expected = expected_chunks(P, rounding);
     if (L.multipart && P.chunks != expected) {
@@ -260,8 +290,9 @@ ExrLayout check_exr_structure(const fs::path& path, const ReadLimits& limits) {
     if (!L.multipart) break;
   }
   if (L.parts.empty()) r.fail("has no parts");
-  int64_t bytes = 0;
-  for (const auto& p : L.parts) bytes += p.width() * p.height() * int64_t(p.channels.size()) * 4;
+  // Every channel is decoded into a float plane of the union window.
+  const int64_t bytes = (int64_t(L.window[2]) - L.window[0] + 1) * (int64_t(L.window[3]) - L.window[1] + 1) *
+                        total_channels * 4;
   if (bytes > limits.max_bytes) {
     r.fail("decoding would need " + std::to_string(bytes >> 20) + " MiB, more than limits.max_memory_mb");
   }
@@ -285,35 +316,78 @@ ExrLayout check_exr_structure(const fs::path& path, const ReadLimits& limits) {
     }
     L.chunk_offsets.push_back(std::move(offs));
   }
-  // Chunk headers: part number, position, and a data size that fits in the file.
+  // Chunk headers: part number, the chunk the table's entry stands for (a chunk missing or listed
+  // twice leaves lines that nothing decodes), and a data size that fits in the file and can hold
+  // the pixels the header gives the chunk (max_ratio).
   for (size_t pi = 0; pi < L.parts.size(); ++pi) {
     const auto& P = L.parts[pi];
-    for (uint64_t o : L.chunk_offsets[pi]) {
+    const std::string part = "part " + std::to_string(pi);
+    int64_t pixel_bytes = 0;  // decoded bytes of one pixel of every channel
+    for (const auto& c : P.channels) pixel_bytes += c.pixel_type == 1 ? 2 : 4;
+    const int lpc = lines_per_chunk(P.compression);
+    const int rounding = roundings[pi];
+    for (size_t k = 0; k < L.chunk_offsets[pi].size(); ++k) {
+      const uint64_t o = L.chunk_offsets[pi][k];
+      const std::string chunk = part + ": chunk " + std::to_string(k) + " (at byte " + std::to_string(o) + ")";
       r.seek(o);
       if (L.multipart && r.value<int32_t>("a chunk's part number") != int32_t(pi)) {
-        r.fail("part " + std::to_string(pi) + ": chunk at " + std::to_string(o) + " belongs to another part");
+        r.fail(chunk + " belongs to another part");
       }
+      int64_t cols = 0, lines = 0;
       if (P.tiled) {
         int32_t t[4];
         for (int& v : t) v = r.value<int32_t>("a tile's coordinates");
-        if (t[0] < 0 || t[1] < 0 || t[2] < 0 || t[3] < 0) r.fail("part " + std::to_string(pi) + ": negative tile coordinates");
-      } else {
-        int32_t y = r.value<int32_t>("a chunk's first line");
-        if (y < P.data_window[1] || y > P.data_window[3]) {
-          r.fail("part " + std::to_string(pi) + ": chunk at " + std::to_string(o) + " starts on line " +
-                 std::to_string(y) + ", outside the data window");
+        if (t[0] < 0 || t[1] < 0 || t[2] < 0 || t[3] < 0) r.fail(chunk + ": negative tile coordinates");
+        // The table lists levels in order (mipmap: level l of both axes; ripmap: x levels within
+        // y levels), each level's tiles row by row.
+        const int64_t lx_n = P.level_mode == 0 ? 1 : level_count(P.width(), rounding);
+        const int64_t ly_n = P.level_mode == 0 ? 1 : level_count(P.height(), rounding);
+        if ((P.level_mode == 1 && (t[2] != t[3] || t[2] >= std::max(lx_n, ly_n))) ||
+            (P.level_mode != 1 && (t[2] >= lx_n || t[3] >= ly_n))) {
+          r.fail(chunk + ": tile level " + std::to_string(t[2]) + "," + std::to_string(t[3]) + " does not exist");
         }
+        const int64_t lw = level_size(P.width(), t[2], rounding), lh = level_size(P.height(), t[3], rounding);
+        const int64_t nx = ceil_div(lw, P.tile_x), ny = ceil_div(lh, P.tile_y);
+        if (t[0] >= nx || t[1] >= ny) r.fail(chunk + ": tile " + std::to_string(t[0]) + "," + std::to_string(t[1]) + " lies outside its level");
+        uint64_t index = 0;  // of the level's first tile
+        if (P.level_mode == 1) {
+          for (int64_t l = 0; l < t[2]; ++l)
+            index += uint64_t(ceil_div(level_size(P.width(), l, rounding), P.tile_x) *
+                              ceil_div(level_size(P.height(), l, rounding), P.tile_y));
+        } else if (P.level_mode == 2) {
+          for (int64_t j = 0; j <= t[3]; ++j)
+            for (int64_t i = 0; i < (j < t[3] ? lx_n : t[2]); ++i)
+              index += uint64_t(ceil_div(level_size(P.width(), i, rounding), P.tile_x) *
+                                ceil_div(level_size(P.height(), j, rounding), P.tile_y));
+        }
+        index += uint64_t(t[1] * nx + t[0]);
+        if (index != k) r.fail(chunk + " holds tile " + std::to_string(index) + ": a tile is missing or listed twice");
+        cols = std::min<int64_t>(P.tile_x, lw - int64_t(t[0]) * P.tile_x);
+        lines = std::min<int64_t>(P.tile_y, lh - int64_t(t[1]) * P.tile_y);
+      } else {
+        const int32_t y = r.value<int32_t>("a chunk's first line");
+        const int64_t want = int64_t(P.data_window[1]) + int64_t(k) * lpc;
+        if (y != want) {
+          r.fail(chunk + " starts on line " + std::to_string(y) + ", where line " + std::to_string(want) +
+                 " belongs: a chunk is missing or listed twice");
+        }
+        cols = P.width();
+        lines = std::min<int64_t>(lpc, int64_t(P.data_window[3]) - y + 1);
       }
-      int32_t size = r.value<int32_t>("a chunk's data size");
+      const int32_t size = r.value<int32_t>("a chunk's data size");
       if (size < 0 || uint64_t(size) > r.size() - r.pos()) {
-        r.fail("part " + std::to_string(pi) + ": chunk at " + std::to_string(o) +
-               " runs past the end of the file (truncated pixel data)");
+        r.fail(chunk + " runs past the end of the file (truncated pixel data)");
       }
-      // Uncompressed data of a chunk can't exceed its lines × width × channels × 4 bytes.
-      const int64_t lines = P.tiled ? int64_t(P.tile_y) : lines_per_chunk(P.compression);
-      const int64_t cols = P.tiled ? int64_t(P.tile_x) : P.width();
-      if (P.compression == 0 && int64_t(size) > lines * cols * int64_t(P.channels.size()) * 4) {
-        r.fail("part " + std::to_string(pi) + ": chunk at " + std::to_string(o) + " is larger than its pixels");
+      const int64_t decoded = cols * lines * pixel_bytes;
+      if (P.compression == 0 && int64_t(size) != decoded) {
+        r.fail(chunk + " holds " + std::to_string(size) + " bytes where its " + std::to_string(cols) + "x" +
+               std::to_string(lines) + " uncompressed pixels take " + std::to_string(decoded));
+      }
+      if (decoded > int64_t(size) * max_ratio(P.compression)) {
+        r.fail(chunk + ": the header gives it " + std::to_string(cols) + "x" + std::to_string(lines) + " pixels, " +
+               std::to_string(decoded) + " bytes, more than its " + std::to_string(size) + " bytes of " +
+               kCompressionNames[P.compression] + " data can hold (at most " +
+               std::to_string(max_ratio(P.compression)) + ":1): the file claims pixels it does not have");
       }
     }
   }

@@ -46,6 +46,7 @@ struct ExrLayout {
   uint64_t file_size = 0;
   bool multipart = false, long_names = false;
   std::vector<ExrPartInfo> parts;
+  int window[4] = {0, 0, 0, 0};  // the union of the parts' data windows (xmin, ymin, xmax, ymax)
   std::vector<uint64_t> header_ends;  // file offset just past each part's header
   uint64_t offsets_begin = 0, offsets_end = 0;
   std::vector<std::vector<uint64_t>> chunk_offsets;  // per part

@@ -29,8 +29,11 @@ void decode_exr_planes(const std::string& file, const ExrDecodeRequest& req,
     if (p < 0 || p >= in.parts()) throw std::runtime_error("there is no part " + std::to_string(p));
     Imf::InputPart part(in, p);
     const Imf::Header& h = part.header();
-    if (h.dataWindow() != window) {
-      throw std::runtime_error("part " + std::to_string(p) + " has a different data window");
+    // A part covers its own data window within the request's (the union of the parts'); the
+    // rest of its planes stays as the caller gave it, zeros.
+    const Imath::Box2i& dw = h.dataWindow();
+    if (dw.min.x < window.min.x || dw.min.y < window.min.y || dw.max.x > window.max.x || dw.max.y > window.max.y) {
+      throw std::runtime_error("part " + std::to_string(p) + "'s data window lies outside the request");
     }
     Imf::FrameBuffer fb;
     size_t i = first;
@@ -43,7 +46,7 @@ void decode_exr_planes(const std::string& file, const ExrDecodeRequest& req,
       fb.insert(name, Imf::Slice::Make(type, plane(i), window, 4, 4 * size_t(req.width)));
     }
     part.setFrameBuffer(fb);
-    part.readPixels(window.min.y, window.max.y);
+    part.readPixels(dw.min.y, dw.max.y);
     first = i;
   }
 }

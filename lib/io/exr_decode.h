@@ -16,7 +16,8 @@ struct ExrPlane {
   std::string name;
 };
 
-// What to decode: every part must have this data window; plane i goes to the i-th buffer.
+// What to decode: a window holding every part's data window (their union); plane i goes to the
+// i-th buffer, which must hold zeros where its part has no data.
 struct ExrDecodeRequest {
   int x0 = 0, y0 = 0, width = 0, height = 0;
   std::vector<ExrPlane> planes;
@@ -27,7 +28,7 @@ struct ExrDecodeRequest {
 // first. HALF and FLOAT channels arrive as floats; UINT channels as their raw 32-bit values, for
 // the caller to convert. OpenEXR's thread pool decodes the chunks in parallel. Throws
 // std::exception on anything wrong: damaged data, a missing channel, a part whose data window
-// differs from the request.
+// lies outside the request.
 void decode_exr_planes(const std::string& file, const ExrDecodeRequest& req,
                        const std::function<void*(size_t)>& plane);
 

@@ -108,9 +108,14 @@ std::unique_ptr<OIIO::ImageInput> open_checked(const fs::path& path, const ReadL
       img.full_y0 = s.full_y;
       img.full_w = s.full_width;
       img.full_h = s.full_height;
-    } else if (s.width != img.width || s.height != img.height || s.x != img.x0 || s.y != img.y0) {
-      throw IoError(f + ": part " + std::to_string(part) +
-                    " has a different data window from part 0 (all parts must share one)");
+    } else {
+      // Parts with other data windows (AOVs cropped to their bounding box): the image is the
+      // union, and each part's channels are 0 outside its own window (read_exr).
+      const int x1 = std::max(img.x0 + img.width, s.x + s.width), y1 = std::max(img.y0 + img.height, s.y + s.height);
+      img.x0 = std::min(img.x0, s.x);
+      img.y0 = std::min(img.y0, s.y);
+      img.width = x1 - img.x0;
+      img.height = y1 - img.y0;
     }
     total_channels += s.nchannels;
     if (total_channels > limits.max_channels) {

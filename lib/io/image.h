@@ -54,7 +54,8 @@ struct ReadLimits {
   std::string checker;
 };
 
-// Reads all parts (which must share one data window) into float planes.
+// Reads all parts into float planes of the union of their data windows (a part's channels are 0
+// outside its own).
 Image read_exr(const std::filesystem::path& path, const ReadLimits& limits = {});
 
 // Header only: channel names of all parts, size, attributes. Pixels are not decoded.

@@ -21,11 +21,16 @@
 #include <OpenEXR/ImfTimeCodeAttribute.h>
 #include <OpenEXR/ImfVecAttribute.h>
 #include <OpenImageIO/imageio.h>
+#include <fcntl.h>
+#include <signal.h>
 #include <sys/mman.h>
 #include <unistd.h>
 
 #include <algorithm>
+#include <cerrno>
 #include <cmath>
+#include <cstdio>
+#include <cstdlib>
 #include <cstring>
 #include <ctime>
 #include <fstream>
@@ -55,6 +60,52 @@ void check_writable(const fs::path& path, const WriteOptions& opt) {
 }
 
 namespace {
+
+// An output is written to a temporary file beside it and renamed over it only once complete
+// (issue 54): a full disk, a kill at any point or a second writer leaves the target either as
+// it was or whole. The temporary's name carries the writer's pid, so that a later write of the
+// same target removes what a killed writer left (its pid gone) and never a live writer's.
+const std::string kTmpTag = ".tmp";
+
+fs::path temp_beside(const fs::path& path, const std::string& ext) {
+  std::mt19937_64 rng(std::random_device{}());
+  fs::path tmp = path;
+  tmp.replace_filename("." + path.filename().string() + kTmpTag + std::to_string(::getpid()) + "-" +
+                       std::to_string(rng() % 1000000) + ext);
+  return tmp;
+}
+
+// Removes the temporaries of `path` whose writers are no longer running.
+void remove_stale_temps(const fs::path& path) {
+  const std::string prefix = "." + path.filename().string() + kTmpTag;
+  const fs::path dir = path.parent_path().empty() ? fs::path(".") : path.parent_path();
+  std::error_code ec;
+  for (auto it = fs::directory_iterator(dir, ec); !ec && it != fs::directory_iterator(); it.increment(ec)) {
+    const std::string name = it->path().filename().string();
+    if (name.rfind(prefix, 0) != 0) continue;
+    const std::string rest = name.substr(prefix.size());
+    const size_t dash = rest.find('-');
+    if (dash == std::string::npos || dash == 0 || rest.find_first_not_of("0123456789") != dash) continue;
+    const long pid = std::strtol(rest.substr(0, dash).c_str(), nullptr, 10);
+    if (pid > 0 && ::kill(pid_t(pid), 0) != 0 && errno == ESRCH) {
+      std::error_code rm;
+      fs::remove(it->path(), rm);
+    }
+  }
+}
+
+// Renames the finished temporary over the target; with no_clobber, only if the target still
+// does not exist, in one step (renameat2's RENAME_NOREPLACE), so a writer that appeared
+// meanwhile is never replaced. Returns the error text, empty on success.
+std::string commit_temp(const fs::path& tmp, const fs::path& path, bool no_clobber) {
+  if (no_clobber) {
+    if (::renameat2(AT_FDCWD, tmp.c_str(), AT_FDCWD, path.c_str(), RENAME_NOREPLACE) == 0) return "";
+    return errno == EEXIST ? "appeared while writing, and --no-clobber was given" : std::strerror(errno);
+  }
+  std::error_code ec;
+  fs::rename(tmp, path, ec);
+  return ec ? ec.message() : "";
+}
 
 // OIIO's names for the EXR standard attributes its reader renames, and the type the EXR
 // attribute has; an empty EXR name is one OpenEXR owns (dropped, as OIIO's writer drops it).
@@ -283,13 +334,8 @@ void write_exr(const fs::path& path, const Image& img, const WriteOptions& opt) 
     if (img.attributes.get_string("ResolutionUnit") == "cm") header.insert("xDensity", Imf::FloatAttribute(xd / 2.54f));
   }
 
-  // Temporary file in the target's folder so the final rename is atomic.
-  std::mt19937_64 rng(std::random_device{}());
-  fs::path tmp = path;
-  std::string tmp_name(1, '.');
-  tmp_name.append(path.filename().string()).append(".tmp").append(std::to_string(rng() % 1000000));
-  tmp_name.append(".exr");
-  tmp.replace_filename(tmp_name);
+  remove_stale_temps(path);
+  const fs::path tmp = temp_beside(path, ".exr");
   auto fail = [&](const std::string& why) {
     std::error_code ec;
     fs::remove(tmp, ec);
@@ -301,13 +347,14 @@ void write_exr(const fs::path& path, const Image& img, const WriteOptions& opt) 
     Imf::OutputFile out(tmp.c_str(), header, exr_thread_count());
     out.setFrameBuffer(fb);
     out.writePixels(img.height);
+  } catch (const std::bad_alloc&) {
+    std::error_code ec;
+    fs::remove(tmp, ec);
+    throw IoError(f + ": out of memory while encoding the output");  // not the file's fault
   } catch (const std::exception& e) {
     fail(e.what());
   }
-  std::error_code ec;
-  if (opt.no_clobber && fs::exists(path, ec)) fail("appeared while writing, and --no-clobber was given");
-  fs::rename(tmp, path, ec);
-  if (ec) fail(ec.message());
+  if (std::string why = commit_temp(tmp, path, opt.no_clobber); !why.empty()) fail(why);
 }
 
 void write_picture(const fs::path& path, int width, int height,
@@ -317,19 +364,17 @@ void write_picture(const fs::path& path, int width, int height,
   std::string ext = path.extension().string();
   for (auto& c : ext) c = char(std::tolower(c));
   if (ext != ".png" && ext != ".jpg" && ext != ".jpeg") throw IoError(f + ": pictures are .png or .jpg");
-  std::string tmp_name(1, '.');
-  tmp_name.append(path.filename().string()).append(".tmp").append(ext);
-  fs::path tmp = path;
-  tmp.replace_filename(tmp_name);
+  remove_stale_temps(path);
+  const fs::path tmp = temp_beside(path, ext);
   auto out = OIIO::ImageOutput::create(tmp.string());
   OIIO::ImageSpec spec(width, height, 3, OIIO::TypeDesc::UINT8);
   bool ok = out && out->open(tmp.string(), spec) &&
             out->write_image(OIIO::TypeDesc::UINT8, rgb.data()) && out->close();
-  std::error_code ec;
-  if (ok) fs::rename(tmp, path, ec);
-  if (!ok || ec) {
+  std::string why = ok ? commit_temp(tmp, path, no_clobber) : (out ? out->geterror() : std::string("no writer"));
+  if (!why.empty()) {
+    std::error_code ec;
     fs::remove(tmp, ec);
-    throw IoError(f + ": cannot write the picture" + (out ? ": " + first_line(out->geterror()) : std::string()));
+    throw IoError(f + ": cannot write the picture: " + first_line(why));
   }
 }
 

@@ -10,6 +10,7 @@
 #include <chrono>
 #include <cmath>
 #include <map>
+#include <new>
 #include <cstdio>
 #include <regex>
 #include <sstream>
@@ -162,6 +163,21 @@ void refit_positions(LoadedFrame& f) {
   f.refit_ms = std::chrono::duration<double, std::milli>(Clock::now() - t).count();
 }
 
+namespace {
+
+// An allocation that fails in a stage names the input and the stage (issue 54): "out of memory"
+// alone sent users to the output, or nowhere.
+template <class F>
+auto naming_oom(const std::string& input, const char* stage, F&& f) {
+  try {
+    return f();
+  } catch (const std::bad_alloc&) {
+    throw io::IoError(input + ": out of memory while " + stage);
+  }
+}
+
+}  // namespace
+
 LoadedFrame plan_frame(const JobConfig& job, const std::string& input) {
   LoadedFrame f;
   f.input = input;
@@ -176,7 +192,7 @@ LoadedFrame load_frame(const JobConfig& job, const std::string& input) {
   auto t = Clock::now();
   f.img = io::read_exr(input, job.limits);
   f.read_ms = std::chrono::duration<double, std::milli>(Clock::now() - t).count();
-  prepare_pixels(job, f);
+  naming_oom(input, "preparing its pixels", [&] { prepare_pixels(job, f); });
   return f;
 }
 
@@ -319,7 +335,9 @@ Stats process_frame(Runner& runner, const JobConfig& job, LoadedFrame& f) {
   gpu::Context& ctx = runner.context();
   load_effects(f);  // a frame from plan_frame: nothing loaded yet (a no-op after load_frame)
   const int edge = tile_edge(ctx, job, f);
-  Stats st = edge > 0 ? execute_tiled(runner, job, f, edge) : runner.execute(f.plan, f.roles, f.img);
+  Stats st = naming_oom(f.input, "processing it", [&] {
+    return edge > 0 ? execute_tiled(runner, job, f, edge) : runner.execute(f.plan, f.roles, f.img);
+  });
   // The refitted depth was the effects' (choose_positions), not an output.
   std::erase_if(f.img.channels, [](const io::Channel& c) { return c.name == effects::kRefitChannel; });
   st.warnings.insert(f.warnings.begin(), f.warnings.end());

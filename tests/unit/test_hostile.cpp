@@ -198,10 +198,113 @@ TEST(Hostile, PartsThatDisagree) {
   poke<int32_t>(bytes, cc, 7);
   spit(dir / "count.exr", bytes);
   expect_rejected(dir / "count.exr", "chunkCount");
-  bytes = slurp(path);
-  poke<int32_t>(bytes, layout.parts[1].attributes.at("dataWindow").offset + 12, 18);
-  spit(dir / "window.exr", bytes);
-  expect_rejected(dir / "window.exr", "different data window");
+}
+
+// A header whose chunks cannot hold the pixels it declares (issue 54: a 355-byte file claiming
+// 100663297x1 pixels decoded for 45 s into 4.9 GB): with every other limit lifted, the data
+// window widened past what each compression's largest ratio allows is refused by the structure
+// walk, naming both figures; the same file at its own width reads.
+TEST(Hostile, HeaderClaimingMorePixelsThanItsBytesHoldIsRefused) {
+  isg::io::ReadLimits open;
+  open.max_pixels = int64_t(1) << 50;
+  open.max_bytes = int64_t(1) << 60;
+  const int64_t ratios[] = {1, 128, 1032, 1032, 1024, 1400, 11, 11, 1032 * 128, 1032 * 128};
+  const char* names[] = {"none", "rle", "zips", "zip", "piz", "pxr24", "b44", "b44a", "dwaa", "dwab"};
+  for (int c = 0; c < 10; ++c) {
+    Fixture f(std::string("ratio-") + names[c], names[c]);
+    ASSERT_EQ(f.layout.parts[0].compression, c) << names[c];
+    EXPECT_NO_THROW(isg::io::check_exr_structure(f.good, open)) << names[c];
+    // The most compressible file there is (every value 0, half and float planes, wide lines)
+    // stays within the bounds: they refuse no file an encoder writes.
+    isg::io::Image flat;
+    flat.width = flat.full_w = 4096;
+    flat.height = flat.full_h = 300;
+    flat.set("R", std::vector<float>(flat.pixels(), 0.0f), isg::io::Storage::half);
+    flat.set("Z", std::vector<float>(flat.pixels(), 0.0f), isg::io::Storage::f32);
+    isg::io::write_exr(f.dir / "flat.exr", flat, {names[c], false});
+    EXPECT_NO_THROW(isg::io::read_exr(f.dir / "flat.exr", checked())) << names[c];
+    // The widest chunk's data, times the ratio, over its lines and channels: a width past it.
+    int64_t largest = 0;
+    for (uint64_t o : f.layout.chunk_offsets[0]) {
+      int32_t size;
+      std::memcpy(&size, f.bytes.data() + o + 4, 4);
+      largest = std::max<int64_t>(largest, size);
+    }
+    const int64_t width = largest * ratios[c] / 2 + 64;  // > the bound with one line, 2-byte pixels
+    auto b = f.bytes;
+    poke<int32_t>(b, f.attr("dataWindow") + 8, int32_t(width - 1));  // xmax; the lines stay
+    auto p = f.dir / "claims.exr";
+    spit(p, b);
+    try {
+      isg::io::check_exr_structure(p, open);
+      ADD_FAILURE() << names[c] << ": a " << width << "-wide claim passed";
+    } catch (const IoError& e) {
+      std::string m = e.what();
+      EXPECT_NE(m.find(c == 0 ? "uncompressed pixels take" : "can hold (at most"), std::string::npos) << m;
+      EXPECT_NE(m.find("claims.exr"), std::string::npos) << m;
+    }
+  }
+}
+
+// A chunk table with an entry listed twice (so a chunk is missing): the lines it leaves would
+// decode as nothing; refused, naming the chunk.
+TEST(Hostile, ChunkListedTwiceIsRefused) {
+  Fixture f("twice");
+  auto b = f.bytes;
+  poke<uint64_t>(b, f.layout.offsets_begin + 8, f.layout.chunk_offsets[0][0]);
+  spit(f.dir / "twice.exr", b);
+  expect_rejected(f.dir / "twice.exr", "a chunk is missing or listed twice");
+}
+
+// Parts with different data windows (a beauty whole, AOVs cropped to their bounding box): read
+// in the union of the windows, each part's channels 0 outside its own, equal to the same
+// channels written in one part.
+TEST(Hostile, PartsWithDifferentDataWindowsAreReadInTheirUnion) {
+  auto dir = isg::test::temp_dir("union");
+  const int W = 12, H = 20, cx = 3, cy = 5, cw = 6, ch = 9;  // part 1's crop
+  std::vector<float> r(W * H), z(size_t(cw) * ch), z_full(W * H, 0.0f);
+  for (int i = 0; i < W * H; ++i) r[size_t(i)] = 0.25f + 0.001f * float(i);
+  for (int y = 0; y < ch; ++y)
+    for (int x = 0; x < cw; ++x) {
+      z[size_t(y * cw + x)] = 3.0f + 0.5f * float(x) + float(y);
+      z_full[size_t((y + cy) * W + x + cx)] = z[size_t(y * cw + x)];
+    }
+  OIIO::ImageSpec a(W, H, 1, OIIO::TypeDesc::FLOAT), b(cw, ch, 1, OIIO::TypeDesc::FLOAT);
+  a.channelnames = {"R"};
+  b.channelnames = {"Z"};
+  b.x = cx;
+  b.y = cy;
+  b.full_width = W;
+  b.full_height = H;
+  a.attribute("name", "beauty");
+  b.attribute("name", "aovs");
+  const auto path = (dir / "cropped.exr").string();
+  auto out = OIIO::ImageOutput::create(path);
+  OIIO::ImageSpec specs[2] = {a, b};
+  ASSERT_TRUE(out->open(path, 2, specs));
+  ASSERT_TRUE(out->write_image(OIIO::TypeDesc::FLOAT, r.data()));
+  ASSERT_TRUE(out->open(path, b, OIIO::ImageOutput::AppendSubimage));
+  ASSERT_TRUE(out->write_image(OIIO::TypeDesc::FLOAT, z.data()));
+  out->close();
+  isg::io::Image one;
+  one.width = one.full_w = W;
+  one.height = one.full_h = H;
+  one.set("R", r);
+  one.set("Z", z_full);
+  isg::io::write_exr(dir / "one.exr", one, {"zip", false});
+  for (const auto& limits : {isg::io::ReadLimits{}, checked()}) {
+    auto img = isg::io::read_exr(path, limits);
+    auto ref = isg::io::read_exr(dir / "one.exr", limits);
+    ASSERT_EQ(img.width, W);
+    ASSERT_EQ(img.height, H);
+    EXPECT_EQ(img.x0, 0);
+    EXPECT_EQ(img.y0, 0);
+    ASSERT_TRUE(img.find("R") && img.find("Z"));
+    EXPECT_EQ(img.find("R")->data, ref.find("R")->data);
+    EXPECT_EQ(img.find("Z")->data, ref.find("Z")->data);
+    EXPECT_EQ(img.find("Z")->data[size_t((cy + 1) * W + cx + 2)], 3.0f + 1.0f + 1.0f);
+    EXPECT_EQ(img.find("Z")->data[0], 0.0f);  // outside the crop
+  }
 }
 
 // The decoding child's ways of failing: each is one line naming the file, and nothing is copied.
