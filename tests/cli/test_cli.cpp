@@ -5,6 +5,7 @@
 #include <cmath>
 #include <cstring>
 #include <fstream>
+#include <OpenImageIO/imageio.h>
 #include <nlohmann/json.hpp>
 #include <sstream>
 
@@ -467,4 +468,62 @@ TEST(CliSynth, SequenceFlickersLessThanTheHardShadowAndFramesStandAlone) {
   // Measured 0.0191 vs 0.0332 (128 x 72, 4 frames, reference 64 spp whose own noise is in it).
   EXPECT_LT(e_isg, 0.025);
   EXPECT_LT(e_isg, 0.7 * e_hard);
+}
+
+// Issue 54: a renderer's beauty in one part and AOVs cropped to their bounding box in another
+// run as the same channels in one part, with the cropped ones 0 outside their box.
+TEST_F(Cli, PartsWithDifferentDataWindowsRunAsOnePart) {
+  const int W = 24, H = 16, cx = 4, cy = 2, cw = 16, ch = 12;
+  auto img = isg::test::contract_aovs(W, H);
+  std::vector<std::string> whole, cropped;
+  for (const auto& c : img.channels) (c.name.rfind("key.", 0) == 0 ? cropped : whole).push_back(c.name);
+  ASSERT_EQ(cropped.size(), 5u);
+  // The one-part reference: the cropped channels 0 outside their box.
+  auto one = img;
+  for (const auto& n : cropped) {
+    auto& d = one.find(n)->data;
+    for (int y = 0; y < H; ++y)
+      for (int x = 0; x < W; ++x)
+        if (x < cx || x >= cx + cw || y < cy || y >= cy + ch) d[size_t(y * W + x)] = 0.0f;
+  }
+  isg::io::write_exr(dir / "one.exr", one, {});
+  // The two-part file, written through OIIO as a renderer's would be.
+  OIIO::ImageSpec a(W, H, int(whole.size()), OIIO::TypeDesc::FLOAT), b(cw, ch, int(cropped.size()), OIIO::TypeDesc::FLOAT);
+  a.channelnames = whole;
+  b.channelnames = cropped;
+  a.alpha_channel = 3;
+  b.x = cx;
+  b.y = cy;
+  b.full_width = W;
+  b.full_height = H;
+  a.attribute("name", "beauty");
+  b.attribute("name", "aovs");
+  std::vector<float> pa, pb;
+  for (int y = 0; y < H; ++y)
+    for (int x = 0; x < W; ++x) {
+      for (const auto& n : whole) pa.push_back(img.find(n)->data[size_t(y * W + x)]);
+      if (x >= cx && x < cx + cw && y >= cy && y < cy + ch)
+        for (const auto& n : cropped) pb.push_back(img.find(n)->data[size_t(y * W + x)]);
+    }
+  const auto two = (dir / "two.exr").string();
+  auto o = OIIO::ImageOutput::create(two);
+  OIIO::ImageSpec specs[2] = {a, b};
+  ASSERT_TRUE(o->open(two, 2, specs));
+  ASSERT_TRUE(o->write_image(OIIO::TypeDesc::FLOAT, pa.data()));
+  ASSERT_TRUE(o->open(two, b, OIIO::ImageOutput::AppendSubimage));
+  ASSERT_TRUE(o->write_image(OIIO::TypeDesc::FLOAT, pb.data()));
+  ASSERT_TRUE(o->close());
+  for (const char* f : {"one", "two"}) {
+    auto r = run_isg("run " + q(dir / (std::string(f) + ".exr")) + " --scene " + q(scene) + " -o " +
+                     q(dir / (std::string(f) + "-out.exr")));
+    ASSERT_EQ(r.code, 0) << f << ": " << r.err;
+  }
+  auto want = isg::io::read_exr(dir / "one-out.exr"), got = isg::io::read_exr(dir / "two-out.exr");
+  ASSERT_EQ(got.width, W);
+  ASSERT_EQ(got.height, H);
+  ASSERT_EQ(got.channel_names().size(), want.channel_names().size());
+  for (const auto& c : want.channels) {
+    ASSERT_NE(got.find(c.name), nullptr) << c.name;
+    EXPECT_EQ(got.find(c.name)->data, c.data) << c.name;
+  }
 }
