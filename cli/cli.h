@@ -14,6 +14,7 @@
 #include "io/scene.h"
 #include "params/params.h"
 #include "roofline/roofline.h"
+#include "run/options.h"
 
 #ifndef ISG_VERSION
 #define ISG_VERSION "0.0.0"
@@ -39,10 +40,8 @@ struct Common {
 };
 
 void add_common(CLI::App* app, Common& c);
-params::Params build_params(const Common& c, const std::string& compression);
-io::Scene load_scene(const Common& c);
-io::RoleRequest role_request(const Common& c, const params::Params& p, const io::Scene& scene);
-void check_override_roles(const io::RoleRequest& req, const io::Roles& roles);
+// The options as lib/run assembles a job from them (run::make_job, as the Python module does).
+run::JobOptions job_options(const Common& c, const std::string& compression);
 io::ReadLimits limits_of(const params::Params& p);
 std::string join(const std::vector<std::string>& v, const char* sep = " ");
 

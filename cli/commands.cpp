@@ -25,19 +25,14 @@ using json = nlohmann::json;
 // ---- isg info ----
 
 int cmd_info(const Common& c, const std::string& input, bool as_json) {
-  auto p = build_params(c, "");
-  auto scene = load_scene(c);
-  auto req = role_request(c, p, scene);
   // The file's roles (listed), and those `isg run` takes (input.positions: P refitted far from
   // the origin, or Z; what can run and what auto picks).
-  isg::run::JobConfig job{scene, c.scene, p};
-  job.request = req;
-  job.limits = limits_of(p);
-  auto f = isg::run::plan_frame(job, input);
+  const auto job = isg::run::make_job(job_options(c, ""), isg::run::executable_layout(), ISG_VERSION);
+  const auto& scene = job.scene;
+  auto f = isg::run::plan_frame(job, input);  // checks the --channel roles
   auto& img = f.img;
   const std::vector<std::string> channels = img.channel_names();
-  auto roles = isg::io::resolve_roles(channels, req, input);
-  check_override_roles(req, roles);
+  const auto& roles = f.roles;
   const std::optional<isg::io::Camera>& cam = f.camera;
   auto caps = isg::plan::capabilities(f.roles, scene, cam.has_value());
   // What shadows.method = auto would pick for each light whose soft shadows can run, and why
@@ -46,7 +41,7 @@ int cmd_info(const Common& c, const std::string& input, bool as_json) {
   for (const auto& e : caps) {
     if (!e.runs || e.effect.rfind("shadows[", 0) != 0) continue;
     if (picks.empty()) {
-      img = isg::io::read_exr(input, limits_of(p));
+      img = isg::io::read_exr(input, job.limits);
       isg::run::refit_positions(f);
     }
     const std::string l = e.effect.substr(8, e.effect.size() - 9);

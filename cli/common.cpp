@@ -5,6 +5,7 @@
 #include "effects/output_params.h"
 #include "effects/params.h"
 #include "run/install.h"
+#include "run/options.h"
 
 namespace isg::cli {
 
@@ -24,61 +25,25 @@ void add_common(CLI::App* app, Common& c) {
   app->add_option("--layer", c.layer, "Blender view layer to read");
 }
 
-isg::params::Params build_params(const Common& c, const std::string& compression) {
-  auto p = isg::effects::default_params();
-  if (!c.preset.empty()) p.load_preset(c.preset, preset_dirs());
-  if (!compression.empty()) p.set_text("output.compression", compression, "--compression");
-  for (const auto& s : c.sets) {
-    auto eq = s.find('=');
-    if (eq == std::string::npos) throw isg::params::ParamError("--set " + s + ": expected KEY=VALUE");
-    p.set_text(s.substr(0, eq), s.substr(eq + 1), "--set");
-  }
-  return p;
-}
-
-isg::io::Scene load_scene(const Common& c) {
-  if (c.scene.empty()) return isg::io::Scene{};
-  return isg::io::read_scene(c.scene);
-}
-
-isg::io::RoleRequest role_request(const Common& c, const isg::params::Params& p,
-                                  const isg::io::Scene& scene) {
-  isg::io::RoleRequest req;
-  for (const auto& l : scene.lights) req.light_names.push_back(l.name);
-  req.layer = c.layer;
-  for (const auto& [role, e] : p.channels()) {
-    req.overrides[role] = e.name;
-    req.override_how[role] = "[channels] " + e.where;
-  }
+isg::run::JobOptions job_options(const Common& c, const std::string& compression) {
+  isg::run::JobOptions o;
+  o.scene = c.scene;
+  o.preset = c.preset;
+  o.sets = c.sets;
+  o.layer = c.layer;
+  o.compression = compression;
   for (const auto& s : c.channels) {
     auto eq = s.find('=');
     if (eq == std::string::npos || eq == 0 || eq + 1 == s.size()) {
       throw isg::io::IoError("--channel " + s + ": expected ROLE=NAME");
     }
-    req.overrides[s.substr(0, eq)] = s.substr(eq + 1);
-    req.override_how[s.substr(0, eq)] = "--channel";
+    o.channels.emplace_back(s.substr(0, eq), s.substr(eq + 1));
   }
-  return req;
-}
-
-void check_override_roles(const isg::io::RoleRequest& req, const isg::io::Roles& roles) {
-  for (const auto& [role, name] : req.overrides) {
-    if (!isg::io::is_known_role(role, roles.lights)) {
-      auto how = req.override_how.find(role);
-      throw isg::io::IoError((how == req.override_how.end() ? "--channel" : how->second) + ": " +
-                             role + "=" + name + ": unknown role " + role);
-    }
-  }
+  return o;
 }
 
 isg::io::ReadLimits limits_of(const isg::params::Params& p) {
-  isg::io::ReadLimits l;
-  l.max_pixels = int64_t(p.get(isg::effects::output_keys::max_megapixels) * 1e6);
-  l.max_channels = int(p.get(isg::effects::output_keys::max_channels));
-  l.max_bytes = int64_t(p.get(isg::effects::output_keys::max_memory_mb)) << 20;
-  l.check_seconds = p.get(isg::effects::output_keys::check_seconds);
-  l.checker = isg::run::executable_layout().exrcheck.string();
-  return l;
+  return isg::run::read_limits(p, isg::run::executable_layout());
 }
 
 std::string join(const std::vector<std::string>& v, const char* sep) {

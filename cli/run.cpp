@@ -15,7 +15,9 @@
 #include "gpu/gpu.h"
 #include "io/color.h"
 #include "roofline/roofline.h"
+#include "run/install.h"
 #include "run/job.h"
+#include "run/options.h"
 #include "run/run.h"
 #include "run/sequence.h"
 
@@ -26,12 +28,11 @@ namespace fs = std::filesystem;
 namespace {
 
 
-isg::run::JobConfig make_job(const RunArgs& a, isg::params::Params p) {
-  isg::run::JobConfig job{load_scene(a.common), a.common.scene, std::move(p), {}, {}, {}, a.input_colorspace, ISG_VERSION};
-  job.request = role_request(a.common, job.params, job.scene);
-  job.limits = limits_of(job.params);
-  job.write = {job.params.get(isg::effects::output_keys::compression), a.no_clobber};
-  return job;
+isg::run::JobOptions run_options(const RunArgs& a) {
+  auto o = job_options(a.common, a.compression);
+  o.input_colorspace = a.input_colorspace;
+  o.no_clobber = a.no_clobber;
+  return o;
 }
 
 isg::gpu::ContextOptions context_options(const RunArgs& a) {
@@ -233,14 +234,15 @@ int run_sequence(const RunArgs& a, isg::run::JobConfig& job) {
 }  // namespace
 
 int cmd_run(const RunArgs& a) {
-  auto p = build_params(a.common, a.compression);
+  const auto o = run_options(a);
+  const auto layout = isg::run::executable_layout();
   if (a.print_preset) {
-    std::cout << p.to_toml();
+    std::cout << isg::run::job_params(o, layout).to_toml();
     return kOk;
   }
   if (a.input.empty()) throw isg::io::IoError("isg run: no input file given");
   if (a.output.empty() && !a.dry_run) throw isg::io::IoError("isg run: no output given (-o FILE)");
-  auto job = make_job(a, std::move(p));
+  auto job = isg::run::make_job(o, layout, ISG_VERSION);
   if (isg::run::is_sequence_pattern(a.input) && !fs::exists(a.input)) return run_sequence(a, job);
   if (!a.frames.empty()) throw isg::io::IoError(a.input + ": --frames needs a frame pattern (#### or %04d) in the input");
   if (!a.dry_run) {

@@ -12,9 +12,10 @@
 #include "gpu/gpu.h"
 #include "io/image.h"
 #include "io/roles.h"
-#include "options.h"
 #include "params/params.h"
+#include "run/install.h"
 #include "run/job.h"
+#include "run/options.h"
 
 namespace py = pybind11;
 using namespace pybind11::literals;
@@ -48,13 +49,25 @@ std::string value_text(const py::handle& v) {
   return py::str(v).cast<std::string>();
 }
 
-Options options(const py::object& scene, const py::object& preset, const py::object& set,
+// Where the module finds presets and isg-exrcheck: by its own file, as the CLI does by its
+// executable (run/install.h). ISG_PYTHON_TO_PREFIX: from its folder to the install prefix
+// (python/CMakeLists.txt: .../dist-packages -> ../../..).
+run::Layout module_layout() {
+  static const int anchor = 0;
+  return run::layout_of(run::object_file_of(&anchor), ISG_PYTHON_TO_PREFIX);
+}
+
+// The job of `isg run` with these options (run::make_job, the CLI's assembly).
+run::JobConfig make_job(const run::JobOptions& o) { return run::make_job(o, module_layout(), ISG_VERSION); }
+
+run::JobOptions options(const py::object& scene, const py::object& preset, const py::object& set,
                 const py::object& channels, const py::object& layer, const py::object& compression,
                 const py::object& input_colorspace, bool no_clobber) {
   auto text = [](const py::object& o) {
     return o.is_none() ? std::string() : py::str(o).cast<std::string>();
   };
-  Options o;
+  run::JobOptions o;
+  o.flag_prefix = "";  // errors name Python's keywords: set, channels
   o.scene = text(scene);  // str or os.PathLike
   o.preset = text(preset);
   o.layer = text(layer);
@@ -71,13 +84,13 @@ Options options(const py::object& scene, const py::object& preset, const py::obj
   // channels: {"depth": "Z"} or ["depth=Z", ...]
   if (py::isinstance<py::dict>(channels)) {
     for (auto [k, v] : channels.cast<py::dict>())
-      o.channels[py::str(k).cast<std::string>()] = py::str(v).cast<std::string>();
+      o.channels.emplace_back(py::str(k).cast<std::string>(), py::str(v).cast<std::string>());
   } else if (!channels.is_none()) {
     for (auto c : channels) {
       const auto s = py::str(c).cast<std::string>();
       const auto eq = s.find('=');
       if (eq == std::string::npos) throw io::IoError("channels: " + s + ": expected ROLE=NAME");
-      o.channels[s.substr(0, eq)] = s.substr(eq + 1);
+      o.channels.emplace_back(s.substr(0, eq), s.substr(eq + 1));
     }
   }
   return o;
