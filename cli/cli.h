@@ -49,7 +49,7 @@ std::string join(const std::vector<std::string>& v, const char* sep = " ");
 
 struct RunArgs {
   Common common;
-  std::string input, output, device, compression, preview, input_colorspace, frames;
+  std::string input, output, device, compression, preview, focus_view, input_colorspace, frames;
   bool require_gpu = false, timings = false, dry_run = false, print_preset = false;
   bool no_clobber = false, validation = false, skip_existing = false, keep_going = false;
 };

@@ -30,6 +30,9 @@ int main(int argc, char** argv) {
   run->add_option("--preview", ra.preview,
                   "also write a display picture (.png/.jpg) of the composite through the "
                   "OpenColorIO view transform ($OCIO, or the built-in sRGB config)");
+  run->add_option("--focus-view", ra.focus_view,
+                  "also write a picture (.png/.jpg) of the focus plane: the composite in grey, in "
+                  "focus green, nearer blue, farther orange (needs depth of field to run: dof.method)");
   run->add_option("--frames", ra.frames,
                   "frame range for a sequence: A-B, A-BxSTEP, or a list (input and -o hold #### or %04d)");
   run->add_flag("--skip-existing", ra.skip_existing, "sequence: leave frames whose output exists (resume)");

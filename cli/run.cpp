@@ -10,6 +10,7 @@
 #include <thread>
 
 #include "cli.h"
+#include "effects/dof/focus_view.h"
 #include "effects/effect.h"
 #include "effects/output_params.h"
 #include "gpu/gpu.h"
@@ -106,6 +107,7 @@ int run_single(const RunArgs& a, isg::run::JobConfig& job) {
   }
   isg::io::check_writable(a.output, job.write);
   if (!a.preview.empty()) isg::io::check_writable(a.preview, job.write);
+  if (!a.focus_view.empty()) isg::io::check_writable(a.focus_view, job.write);
   // The device starts while the frame is read (issue 18): lavapipe's start-up is LLVM and the
   // pipeline cache, the read mostly waits on the decoder child, so the two overlap.
   std::optional<isg::gpu::Context> gpu;
@@ -122,6 +124,11 @@ int run_single(const RunArgs& a, isg::run::JobConfig& job) {
   });
   auto f = isg::run::load_frame(job, a.input);
   warn_nonfinite(f);
+  if (!a.focus_view.empty()) {  // before any work: the view pictures depth of field's CoC
+    for (const auto& e : f.plan.effects)
+      if (e.effect == "dof" && !e.runs)
+        throw isg::io::IoError(a.focus_view + ": --focus-view needs depth of field, which does not run (" + e.why + ")");
+  }
   starter.join();
   if (gpu_error) std::rethrow_exception(gpu_error);
   isg::gpu::Context& ctx = *gpu;
@@ -140,6 +147,13 @@ int run_single(const RunArgs& a, isg::run::JobConfig& job) {
     isg::io::write_picture(a.preview, f.img.width, f.img.height, pic, a.no_clobber);
     std::cout << "wrote " << a.preview << " (display picture, OpenColorIO "
               << isg::io::color_config_description() << ")\n";
+  }
+  if (!a.focus_view.empty()) {
+    const auto* coc = f.img.find("dof.coc");
+    if (!coc) throw isg::io::IoError(a.focus_view + ": --focus-view: no dof.coc (depth of field did not run)");
+    auto pic = isg::effects::focus_picture(isg::io::display_picture(f.img, {"R", "G", "B"}, {}), coc->data);
+    isg::io::write_picture(a.focus_view, f.img.width, f.img.height, pic, a.no_clobber);
+    std::cout << "wrote " << a.focus_view << " (focus view: in focus green, nearer blue, farther orange)\n";
   }
   if (a.timings) print_timings(ctx, f, st, init_ms, write_ms, ms_since(t_start));
   return kOk;
@@ -243,7 +257,10 @@ int cmd_run(const RunArgs& a) {
   if (a.input.empty()) throw isg::io::IoError("isg run: no input file given");
   if (a.output.empty() && !a.dry_run) throw isg::io::IoError("isg run: no output given (-o FILE)");
   auto job = isg::run::make_job(o, layout, ISG_VERSION);
-  if (isg::run::is_sequence_pattern(a.input) && !fs::exists(a.input)) return run_sequence(a, job);
+  if (isg::run::is_sequence_pattern(a.input) && !fs::exists(a.input)) {
+    if (!a.focus_view.empty()) throw isg::io::IoError(a.focus_view + ": --focus-view takes one frame, not a sequence");
+    return run_sequence(a, job);
+  }
   if (!a.frames.empty()) throw isg::io::IoError(a.input + ": --frames needs a frame pattern (#### or %04d) in the input");
   if (!a.dry_run) {
     std::error_code ec;

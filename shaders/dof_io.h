@@ -35,6 +35,10 @@ struct DofPush {
   float rotation;  // aperture rotation, radians
   uint tile_skip;  // 1: cheap tiles take the cheap path
   uint origin;     // the image's origin in the frame, x | y << 16 (the pixel hash's)
+  uint coc_source;  // dof.coc: 0 eq. 15 from depth, 1 a CoC channel times c_inf
+  uint depth_form;  // 0 planar, 1 normalized (depth_near .. depth_far), 2 inverse (1/Z)
+  float depth_near;
+  float depth_far;
 };
 ISG_IO_END
 #endif

@@ -22,6 +22,8 @@ const std::vector<RoleSpec>& specs() {
       {"beauty", {"R", "G", "B", "A"}, {{"Combined.R", "Combined.G", "Combined.B", "Combined.A"}},
        {"R", "G", "B", "A"}, true},
       {"depth", {"Z"}, {{"Depth.Z"}}, {}},
+      // A circle of confusion in pixels (dof.coc_source = channel): isg's own output name.
+      {"coc", {"dof.coc"}, {}, {}},
       {"position", {"P.X", "P.Y", "P.Z"}, {{"Position.X", "Position.Y", "Position.Z"}}, {"X", "Y", "Z"}},
       {"normal", {"N.X", "N.Y", "N.Z"}, {{"Normal.X", "Normal.Y", "Normal.Z"}}, {"X", "Y", "Z"}},
       {"roughness", {"roughness"}, {{"roughness.X"}}, {}},

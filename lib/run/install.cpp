@@ -54,7 +54,7 @@ Layout layout_of(const fs::path& self, const fs::path& to_prefix) {
       if (!d.empty()) l.preset_dirs.emplace_back(d);
   }
   if (!l.in_build_tree) l.preset_dirs.push_back(l.prefix / "share" / "isg" / "presets");
-  if (l.in_build_tree && std::string(ISG_SOURCE_PRESETS).size()) l.preset_dirs.emplace_back(ISG_SOURCE_PRESETS);
+  if (l.in_build_tree && !std::string(ISG_SOURCE_PRESETS).empty()) l.preset_dirs.emplace_back(ISG_SOURCE_PRESETS);
   if (const char* env = std::getenv("ISG_EXRCHECK"); env && present(env)) {
     l.exrcheck = env;
   } else if (fs::path p = l.prefix / "bin" / "isg-exrcheck"; !l.in_build_tree && present(p)) {

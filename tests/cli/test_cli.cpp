@@ -527,3 +527,46 @@ TEST_F(Cli, PartsWithDifferentDataWindowsRunAsOnePart) {
     EXPECT_EQ(got.find(c.name)->data, c.data) << c.name;
   }
 }
+
+// Issue 53: depth of field with no camera (eq. 15 from Z, dof.focus_distance and
+// dof.coc_infinity), the focus view, and a CoC channel the renderer wrote.
+TEST_F(Cli, DofWithoutCameraCocChannelAndFocusView) {
+  const std::string base = "run " + q(in) + " --scene " + q(scene) +
+                           " --set dof.method=layered --set dof.samples=9 --set dof.coc_source=depth";
+  // Without the focus distance and c_inf there is no lens: dof does not run, and the focus view,
+  // which pictures its CoC, is refused before any work.
+  expect_clean_failure(run_isg(base + " -o " + q(out) + " --focus-view " + q(dir / "fv.png")),
+                       "--focus-view needs depth of field", out);
+  auto r = run_isg(base + " --set dof.focus_distance=2.08 --set dof.coc_infinity=100 -o " + q(out) +
+                   " --focus-view " + q(dir / "fv.png"));
+  ASSERT_EQ(r.code, 0) << r.err;
+  auto img = isg::io::read_exr(out);
+  const auto* coc = img.find("dof.coc");
+  ASSERT_NE(coc, nullptr);
+  const int W = 24;
+  for (int y = 0; y < 16; ++y) {
+    const double z = 2.0 + 0.01 * y;  // contract_aovs' depth
+    EXPECT_NEAR(coc->data[size_t(y * W + 12)], 100.0 * (z - 2.08) / z, 1e-4) << y;
+  }
+  auto fv = OIIO::ImageInput::open((dir / "fv.png").string());
+  ASSERT_TRUE(fv);
+  std::vector<unsigned char> px(size_t(W) * 16 * 3);
+  ASSERT_TRUE(fv->read_image(0, 0, 0, 3, OIIO::TypeDesc::UINT8, px.data()));
+  auto at = [&](int x, int y, int k) { return int(px[size_t(y * W + x) * 3 + size_t(k)]); };
+  EXPECT_GT(at(12, 8, 1), std::max(at(12, 8, 0), at(12, 8, 2)));  // in focus (CoC 0): green
+  EXPECT_GT(at(12, 0, 2), at(12, 0, 0));                           // CoC -4: nearer, blue
+  EXPECT_GT(at(12, 15, 0), at(12, 15, 2));                         // CoC +3.3: farther, orange
+
+  // A CoC channel in the input (role coc, isg's own dof.coc name), times dof.coc_scale; no depth
+  // or camera used.
+  auto with_coc = isg::test::contract_aovs(24, 16);
+  std::vector<float> ramp(with_coc.pixels());
+  for (size_t i = 0; i < ramp.size(); ++i) ramp[i] = float(int(i % 24) - 12);
+  with_coc.set("dof.coc", ramp);
+  isg::io::write_exr(dir / "coc.exr", with_coc, {});
+  r = run_isg("run " + q(dir / "coc.exr") + " --set dof.method=layered --set dof.samples=9 "
+              "--set dof.coc_source=channel --set dof.coc_scale=0.5 -o " + q(dir / "coc-out.exr"));
+  ASSERT_EQ(r.code, 0) << r.err;
+  auto got = isg::io::read_exr(dir / "coc-out.exr");
+  for (size_t i = 0; i < ramp.size(); ++i) ASSERT_FLOAT_EQ(got.find("dof.coc")->data[i], 0.5f * ramp[i]) << i;
+}

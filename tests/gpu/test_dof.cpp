@@ -3,6 +3,7 @@
 // foreground over an in-focus object), on small synthetic images and on the shared Blender case.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
@@ -164,6 +165,43 @@ TEST_F(GpuTest, DofMatchesReferencePerMethod) {
       EXPECT_LT(max_abs_diff(g.out, want), 1e-3) << method << " blades " << blades;
     }
   }
+}
+
+// Issue 53: depth as compositors get it. The dof.coc pass on normalized and inverse depth gives
+// the CoC of eq. 15 on the planar depth they came from (the closed form, in double), and on a
+// CoC channel its values times the gain; each also against the pass's own double reference.
+TEST_F(GpuTest, DofCocFromDepthFormsAndACocChannel) {
+  const Scene2 planar = layered_scene(40, 24);
+  auto s = settings("layered", 6.0, 2.0, 4);
+  const double near = 0.5, far = 20.0;
+  std::vector<float> want(planar.n());
+  for (size_t i = 0; i < planar.n(); ++i) {
+    const double z = planar.depth[i];
+    const double c = z >= 1e9 ? 6.0 : 6.0 * (z - 2.0) / z;
+    want[i] = float(std::clamp(c, -24.0, 24.0));
+  }
+  for (int form : {1, 2}) {
+    Scene2 sc = planar;
+    for (size_t i = 0; i < sc.n(); ++i) {
+      const double z = planar.depth[i];
+      sc.depth[i] = form == 1 ? (z >= 1e9 ? 1.0f : float((z - near) / (far - near))) : (z >= 1e9 ? 0.0f : float(1.0 / z));
+    }
+    auto f = s;
+    f.depth_form = form;
+    f.depth_near = near;
+    f.depth_far = far;
+    auto g = run_gpu(ctx(), sc, f);
+    EXPECT_LT(max_abs_diff(g.coc, want), 2e-4) << "form " << form;
+    EXPECT_LT(max_abs_diff(g.coc, fx::dof_coc_reference(sc.depth, sc.rgba.data() + 3 * sc.n(), f)), 1e-5);
+  }
+  Scene2 sc = planar;
+  for (size_t i = 0; i < sc.n(); ++i) sc.depth[i] = float(int(i % 97) - 48) * 0.5f;  // CoC -24 .. 24
+  auto f = s;
+  f.coc_source = 1;
+  f.lens.c_inf = 1.5;  // dof.coc_scale
+  auto g = run_gpu(ctx(), sc, f);
+  for (size_t i = 0; i < sc.n(); ++i)
+    ASSERT_FLOAT_EQ(g.coc[i], std::clamp(1.5f * sc.depth[i], -24.0f, 24.0f)) << i;
 }
 
 TEST_F(GpuTest, DofInFocusPlaneStaysSharp) {

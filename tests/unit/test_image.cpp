@@ -73,7 +73,9 @@ TEST(Image, MultiPartReadsEveryPart) {
   EXPECT_EQ(img.find("G")->storage, isg::io::Storage::half);
 }
 
-TEST(Image, PartsWithDifferentDataWindowsAreRejected) {
+// Issue 54: parts with different data windows are read in their union (before: refused), each
+// part's channels 0 outside its own window.
+TEST(Image, PartsWithDifferentDataWindowsAreReadInTheirUnion) {
   auto dir = isg::test::temp_dir("mpwin");
   auto path = (dir / "bad.exr").string();
   OIIO::ImageSpec a(4, 3, 1, OIIO::TypeDesc::FLOAT), b(5, 3, 1, OIIO::TypeDesc::FLOAT);
@@ -82,7 +84,7 @@ TEST(Image, PartsWithDifferentDataWindowsAreRejected) {
   b.channelnames = {"Z"};
   a.attribute("name", "a");
   b.attribute("name", "b");
-  std::vector<float> pa(12, 0.f), pb(15, 0.f);
+  std::vector<float> pa(12, 1.f), pb(15, 2.f);
   auto out = OIIO::ImageOutput::create(path);
   OIIO::ImageSpec specs[2] = {a, b};
   ASSERT_TRUE(out->open(path, 2, specs)) << out->geterror();
@@ -90,7 +92,14 @@ TEST(Image, PartsWithDifferentDataWindowsAreRejected) {
   ASSERT_TRUE(out->open(path, b, OIIO::ImageOutput::AppendSubimage));
   ASSERT_TRUE(out->write_image(OIIO::TypeDesc::FLOAT, pb.data()));
   out->close();
-  expect_io_error([&] { isg::io::read_exr(path); }, "different data window");
+  auto img = isg::io::read_exr(path);
+  ASSERT_EQ(img.width, 5);
+  ASSERT_EQ(img.height, 3);
+  for (int y = 0; y < 3; ++y)
+    for (int x = 0; x < 5; ++x) {
+      EXPECT_EQ(img.find("R")->data[size_t(y * 5 + x)], x < 4 ? 1.0f : 0.0f) << x << "," << y;
+      EXPECT_EQ(img.find("Z")->data[size_t(y * 5 + x)], 2.0f);
+    }
 }
 
 TEST(Image, BadFilesGiveOneLineErrorsNamingTheFile) {

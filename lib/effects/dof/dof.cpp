@@ -128,9 +128,13 @@ std::vector<float> dof_coc_reference(const std::vector<float>& depth, const floa
                                      const DofSettings& s) {
   std::vector<float> coc(depth.size());
   for (size_t i = 0; i < depth.size(); ++i) {
-    const double z = depth[i];
+    const double v = depth[i];
+    double z = v;  // planar depth from the file's form (dof_coc.comp)
+    if (s.depth_form == 1) z = v >= 1.0 ? ISG_BACKGROUND_DEPTH : s.depth_near + v * (s.depth_far - s.depth_near);
+    if (s.depth_form == 2) z = v > 0.0 ? 1.0 / v : ISG_BACKGROUND_DEPTH;
     const bool bg = z <= 0 || z >= ISG_BACKGROUND_DEPTH || (alpha && alpha[i] == 0.0f);
-    const double c = bg ? s.lens.c_inf : s.lens.c_inf * (z - s.lens.z_f) / z;  // eq. 15, signed
+    double c = bg ? s.lens.c_inf : s.lens.c_inf * (z - s.lens.z_f) / z;  // eq. 15, signed
+    if (s.coc_source == 1) c = s.lens.c_inf * v;  // a CoC channel, times its gain
     coc[i] = float(std::clamp(c, -s.lens.max_coc, s.lens.max_coc));
   }
   return coc;
@@ -370,6 +374,10 @@ shaders::DofPush push_of(const DofSettings& s, uint32_t w, uint32_t h, bool has_
   pc.rotation = float(s.rotation_deg * kPi / 180.0);
   pc.tile_skip = s.tile_skip ? 1u : 0u;
   pc.origin = s.window.packed_origin();
+  pc.coc_source = uint32_t(s.coc_source);
+  pc.depth_form = uint32_t(s.depth_form);
+  pc.depth_near = float(s.depth_near);
+  pc.depth_far = float(s.depth_far);
   return pc;
 }
 // `constants`: the passes that include dof_common.h take the blades (DOF_BLADES) as constant 0.

@@ -39,6 +39,20 @@ class Dof final : public Effect {
       params::def(dof_keys::blades, "6", 3, 16, "blades of a polygon aperture"),
       params::def(dof_keys::rotation, "0", -360, 360, "rotation of a polygon aperture",
        "degrees"),
+      params::def(dof_keys::coc_source, "camera", {"camera", "depth", "channel"},
+       "where the circle of confusion comes from: camera (eq. 15 from depth and the camera's "
+       "lens, with the overrides above), depth (eq. 15 from depth with dof.focus_distance and "
+       "dof.coc_infinity, no camera needed), channel (a CoC the renderer or an earlier isg run "
+       "wrote, role coc: signed radius in pixels, near negative, times dof.coc_scale; no depth "
+       "needed)"),
+      params::def(dof_keys::depth_form, "planar", {"planar", "normalized", "inverse"},
+       "how the depth channel holds depth: planar (distance along the view axis, the contract's "
+       "Z), normalized (0 at dof.depth_near, 1 at dof.depth_far, 1 and beyond background), "
+       "inverse (1/Z: far is 0)"),
+      params::def(dof_keys::depth_near, "0.1", 0, 1e9, "dof.depth_form=normalized: the depth at 0",
+       "scene units"),
+      params::def(dof_keys::depth_far, "100", 0, 1e12, "dof.depth_form=normalized: the depth at 1",
+       "scene units"),
       params::def(dof_keys::tile_skip, "true",
        "16x16 tiles whose CoC range is under half a pixel take the cheap path (a plain aperture "
        "average)"),
@@ -48,33 +62,54 @@ class Dof final : public Effect {
   std::vector<EffectStatus> capabilities(const io::Roles& roles, const io::Scene&,
                                          bool has_camera) const override {
     EffectStatus st{"dof", false, "", ""};
-    std::string m;
-    for (const auto& r : {"beauty", "depth"})
-      if (!roles.has(r)) m += (m.empty() ? "" : ", ") + std::string(r);
-    if (!m.empty()) st.why = "missing " + m;
-    else if (!has_camera) st.why = "no camera (scene file, or worldToCamera/worldToNDC in the header)";
-    else st.runs = true;
+    // With depth and a camera, as the default dof.coc_source = camera asks; else what another
+    // source needs.
+    if (!roles.has("beauty")) {
+      st.why = "missing beauty";
+    } else if (roles.has("depth") && has_camera) {
+      st.runs = true;
+    } else if (roles.has("coc")) {
+      st.runs = true;
+      st.why = "with dof.coc_source=channel (role coc)";
+    } else if (!roles.has("depth")) {
+      st.why = "missing depth (or a CoC channel: dof.coc_source=channel)";
+    } else {
+      st.why = "no camera (scene file, or worldToCamera/worldToNDC in the header); dof.coc_source=depth "
+               "runs without one";
+    }
     return {st};
   }
 
   void plan(const PlanContext& c, PlanOut& out) const override {
     EffectStatus st{"dof", false, c.p.get(dof_keys::method), ""};
+    const std::string source = c.p.get(dof_keys::coc_source);
     if (st.method == "none") st.why = "dof.method = none";
-    else if (!c.roles.has("depth")) st.why = "missing channels for role depth";
-    else if (!c.camera) st.why = "no camera (scene file, or worldToCamera/worldToNDC in the header)";
+    else if (source == "channel" && !c.roles.has("coc"))
+      st.why = "dof.coc_source = channel: missing channels for role coc (--channel coc=NAME)";
+    else if (source != "channel" && !c.roles.has("depth")) st.why = "missing channels for role depth";
+    else if (source == "camera" && !c.camera)
+      st.why = "no camera (scene file, or worldToCamera/worldToNDC in the header); dof.coc_source = "
+               "depth runs without one";
+    else if (source == "depth" && !(c.p.get(dof_keys::focus_distance) > 0 && c.p.get(dof_keys::coc_infinity) > 0))
+      st.why = "dof.coc_source = depth needs dof.focus_distance and dof.coc_infinity (no lens to take them from)";
+    else if (c.p.get(dof_keys::depth_form) == "normalized" && !(c.p.get(dof_keys::depth_far) > c.p.get(dof_keys::depth_near)))
+      st.why = "dof.depth_form = normalized needs dof.depth_far > dof.depth_near";
     else st.runs = true;
     out.status(st);
     if (!st.runs) return;
     auto inst = make_instance<DofInstance>("dof", "dof");
-    io::Camera cc = *c.camera;
+    // The camera's lens only for dof.coc_source = camera; else the parameters alone.
+    io::Camera cc = source == "camera" ? *c.camera : io::Camera{};
     cc.width = c.view_w();  // CoC in pixels of the frame
     inst->s = dof_settings(cc, c.scene.units, c.p);
     const int k = out.add(inst);
+    if (source == "channel") out.need("coc", 1, true);  // the renderer's CoC, uploaded
     out.need("dof.coc", 1, false);
     out.need("dof.input", 4, false);
     out.buffer("dof.tiles", uint64_t(dof_tiles_x(uint32_t(c.width))) *
                                 uint64_t(dof_tiles_y(uint32_t(c.height))) * 4 * sizeof(float));
-    out.pass("dof", k, "dof.coc", "dof.coc", {"composite", "depth"}, {"dof.coc", "dof.input"});
+    out.pass("dof", k, "dof.coc", "dof.coc", {"composite", source == "channel" ? "coc" : "depth"},
+             {"dof.coc", "dof.input"});
     out.pass("dof", k, "dof.tiles", "dof.tiles", {"dof.coc"}, {"dof.tiles"});
     if (st.method == "isg") {
       out.need("dof.radius", 1, false);

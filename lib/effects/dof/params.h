@@ -17,4 +17,8 @@ inline constexpr params::Choice aperture{"dof.aperture"};
 inline constexpr params::Int blades{"dof.blades"};
 inline constexpr params::Number rotation{"dof.rotation"};
 inline constexpr params::Flag tile_skip{"dof.tile_skip"};
+inline constexpr params::Choice coc_source{"dof.coc_source"};
+inline constexpr params::Choice depth_form{"dof.depth_form"};
+inline constexpr params::Number depth_near{"dof.depth_near"};
+inline constexpr params::Number depth_far{"dof.depth_far"};
 }  // namespace isg::effects::dof_keys

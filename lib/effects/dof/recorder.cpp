@@ -18,8 +18,10 @@ class DofRecorder final : public Recorder {
     auto& dof = frame_[&inst];
     if (!dof) dof = std::make_unique<DofPass>(ctx_, inst.s);
     if (p.name == "dof.coc") {
-      dof->record_coc(seq, b.at("composite"), b.beauty_has_alpha(), b.at("depth"), b.at("dof.coc"),
-                      b.at("dof.input"), b.w, b.h);
+      // dof.coc_source = channel: the CoC channel in the depth's place (dof_coc.comp).
+      dof->record_coc(seq, b.at("composite"), b.beauty_has_alpha(),
+                      b.at(inst.s.coc_source == 1 ? "coc" : "depth"), b.at("dof.coc"), b.at("dof.input"),
+                      b.w, b.h);
     } else if (p.name == "dof.tiles") {
       dof->record_tiles(seq, b.at("dof.coc"), b.at("dof.tiles"), b.w, b.h);
     } else if (p.name == "dof.search") {

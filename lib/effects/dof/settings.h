@@ -27,6 +27,12 @@ struct DofSettings {
   int blades = 0;          // 0: disk; n >= 3: n-blade polygon
   double rotation_deg = 0;  // polygon rotation
   bool tile_skip = true;   // cheap path for tiles whose CoC range is under half a pixel
+  // dof.coc_source: 0 eq. 15 from depth (camera or depth), 1 a CoC channel (times lens.c_inf,
+  // which is then dof.coc_scale).
+  int coc_source = 0;
+  // dof.depth_form: 0 planar, 1 normalized (depth_near + z (depth_far − depth_near)), 2 inverse.
+  int depth_form = 0;
+  double depth_near = 0.1, depth_far = 100.0;
   Window window;  // a tile of a larger frame (the pixel hash's origin)
 };
 
