@@ -22,9 +22,16 @@ void dof_fill_lattice_of(uint grid) {
 void dof_fill_lattice() { dof_fill_lattice_of(pc.grid); }
 
 
+// dof.anamorphic: the aperture stretched to s times as tall as wide at the same area (an
+// anamorphic lens's oval bokeh). dof_stretch maps the unit disk's lattice onto it; dof_norm
+// measures an offset in the unstretched aperture.
+vec2 dof_stretch(vec2 u) { return vec2(u.x * pc.stretch_x, u.y * pc.stretch_y); }
+float dof_reach_scale() { return max(pc.stretch_x, pc.stretch_y); }
+
 // Aperture "norm": |v| for a disk, |v| / rho(angle) for an n-gon of circumradius 1, so a point
-// lies inside the aperture of radius r when dof_norm(v) <= r.
+// lies inside the aperture of radius r when dof_norm(v) <= r (after undoing the stretch).
 float dof_norm(vec2 v, uint blades, float rotation) {
+  v = vec2(v.x / pc.stretch_x, v.y / pc.stretch_y);
   float len = length(v);
   if (blades < 3u || len == 0.0) return len;
   float seg = 2.0 * DOF_PI / float(blades);
@@ -85,7 +92,7 @@ vec4 dof_cheap(uvec2 p, float c0, float rot_angle, uint grid) {
   vec4 s = c_0;
   float ws = 1.0;
   for (uint k = 0u; k < grid * grid; ++k) {
-    vec2 d = r * (rot * dof_lattice[k]);
+    vec2 d = r * dof_stretch(rot * dof_lattice[k]);
     float w = dof_cover(d, r, DOF_BLADES, pc.rotation);
     s += w * dof_fetch_src(p0 + d);
     ws += w;

@@ -35,7 +35,7 @@ void main() {
     vec4 s = c_0;
     float ws = 1.0;
     for (uint k = 0u; k < pc.grid * pc.grid; ++k) {
-      vec2 d = R_g * (rot * dof_lattice[k]);
+      vec2 d = R_g * dof_stretch(rot * dof_lattice[k]);
       float ci = dof_fetch_coc(p0 + d);
       float own = dof_cover(ci >= 0.0 ? -d : d, abs(ci), DOF_BLADES, pc.rotation);
       float front_sharper = smoothstep(0.0, 1.0, c0 - ci) * smoothstep(0.0, 1.0, abs(c0) - abs(ci));

@@ -39,6 +39,8 @@ struct DofPush {
   uint depth_form;  // 0 planar, 1 normalized (depth_near .. depth_far), 2 inverse (1/Z)
   float depth_near;
   float depth_far;
+  float stretch_x;  // dof.anamorphic s: the aperture 1/√s across and √s down (dof_stretch)
+  float stretch_y;
 };
 ISG_IO_END
 #endif

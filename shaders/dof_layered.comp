@@ -36,7 +36,7 @@ vec4 layered(uvec2 p, float c0, float a, float R, uint grid) {
   vec4 Sn = m0 * w0 * c_0, Sf = (1.0 - m0) * w0 * c_0;
   float Wn = m0 * w0, Wf = (1.0 - m0) * w0;
   for (uint k = 0u; k < grid * grid; ++k) {
-    vec2 d = R * (rot * dof_lattice[k]);
+    vec2 d = R * dof_stretch(rot * dof_lattice[k]);
     float ci = dof_fetch_coc(p0 + d);
     vec2 v = ci >= 0.0 ? -d : d;
     float mi = smoothstep(0.5, 1.5, -ci);

@@ -27,7 +27,7 @@ void main() {
   vec2 p0 = vec2(p) + 0.5;
   float sw = 1.0, sv = abs(c0);
   for (uint k = 0u; k < pc.grid * pc.grid; ++k) {
-    vec2 d = R_s * (rot * dof_lattice[k]);
+    vec2 d = R_s * dof_stretch(rot * dof_lattice[k]);
     float ci = dof_fetch_coc(p0 + d);
     // The aperture image is upright behind the focal plane and inverted in front of it.
     float reach = dof_cover(ci >= 0.0 ? -d : d, abs(ci), DOF_BLADES, pc.rotation);

@@ -29,7 +29,7 @@ void main() {
       for (int x = xa + int(gl_LocalInvocationID.x); x <= xb; x += DOF_LOCAL) {
         float c = texelFetch(coc, y * int(pc.width) + x).r;
         int dx = max(max(x0 - x, x - x1), 0);
-        float reach = abs(c) + 1.0;
+        float reach = (abs(c) + 1.0) * max(pc.stretch_x, pc.stretch_y);  // a stretched aperture's bound
         if (float(dx * dx + dy * dy) > reach * reach) continue;
         cmin = min(cmin, c);
         cmax = max(cmax, c);

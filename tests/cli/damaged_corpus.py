@@ -6,7 +6,8 @@ inputs under 1 KiB (tests/support/exr_craft.py), for every compression:
 - a chunk listed twice in the table (so one is missing);
 - a tiled part whose one tile claims a level far larger than its bytes.
 
-`isg info` and `isg run` on each must exit non-zero with one line on stderr naming the file,
+`isg info` on each, and `isg run` on each compression's size claim and on each kind of damage
+once, must exit non-zero with one line on stderr naming the file,
 write no output, and stay within 50 MB of the process's own peak resident memory (the same
 command on a valid file of the same size: the Vulkan driver and the libraries). Wall time is
 reported, not asserted (a benchmark measures; a hang guard of 20 s stands).
@@ -91,7 +92,11 @@ try:
             f.write(b)
         if len(b) >= 1024:
             failures.append(f"{name}: {len(b)} bytes, not under 1 KiB")
-        for cmd in ("info", "run"):
+        # isg info on every file; isg run on every compression's size claim and on each other
+        # kind of damage once (zip), which keeps the suite's time down: run differs from info
+        # only after the structure walk that refuses all of them.
+        cmds = ("info", "run") if name.startswith("claims-") or name.endswith("-zip") else ("info",)
+        for cmd in cmds:
             out = os.path.join(tmp, name + "-out.exr")
             args = [cmd, path] + (["-o", out] if cmd == "run" else [])
             code, err, wall, rss = rss_of(args)
@@ -109,7 +114,7 @@ try:
     for cmd in ("info", "run"):
         print(f"isg {cmd}: slowest {worst[cmd][0]:.2f} s, largest peak {worst[cmd][1]:.0f} MiB "
               f"(floor {floors[cmd]:.0f} MiB, bound floor + 50)")
-    print(f"{n} runs on {n // 2} crafted files")
+    print(f"{n} runs on the crafted files")
 finally:
     shutil.rmtree(tmp, ignore_errors=True)
 for f in failures:

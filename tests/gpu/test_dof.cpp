@@ -204,6 +204,47 @@ TEST_F(GpuTest, DofCocFromDepthFormsAndACocChannel) {
     ASSERT_FLOAT_EQ(g.coc[i], std::clamp(1.5f * sc.depth[i], -24.0f, 24.0f)) << i;
 }
 
+// Issue 53: an anamorphic aperture (dof.anamorphic 2): the highlight of the test above becomes an
+// oval twice as tall as wide, its half-axes cr/√2 across and cr·√2 down (the thin lens's disc
+// squeezed at the same area), with its energy kept; each method against its double reference.
+TEST_F(GpuTest, DofAnamorphicHighlightIsAnOvalWithEnergyKept) {
+  const int w = 48, h = 64;
+  Scene2 sc{w, h, std::vector<float>(4 * size_t(w) * h, 0.0f), std::vector<float>(size_t(w) * h)};
+  const size_t n = sc.n();
+  const int hx = 24, hy = 32;
+  const float E = 100.0f;
+  for (size_t i = 0; i < n; ++i) {
+    sc.depth[i] = 10.0f + 0.05f * float(i % 2);  // not a cheap tile
+    sc.rgba[3 * n + i] = 1.0f;
+  }
+  for (int c = 0; c < 3; ++c) sc.rgba[c * n + size_t(hy) * w + hx] = E;
+  const double cr = 8.0, ax = cr / std::sqrt(2.0), ay = cr * std::sqrt(2.0);
+  for (const std::string method : {"isg", "layered"}) {
+    auto s = settings(method, 10.0, 2.0, 24);
+    s.anamorphic = 2.0;
+    auto g = run_gpu(ctx(), sc, s);
+    double energy = 0, reach_x = 0, reach_y = 0, far_out = 0;
+    for (int y = 0; y < h; ++y)
+      for (int x = 0; x < w; ++x) {
+        const double v = g.out[size_t(y) * w + x];
+        energy += v;
+        const double e = std::hypot((x - hx) / (ax + 1.5), (y - hy) / (ay + 1.5));
+        if (e > 1.0) far_out = std::max(far_out, v);
+        if (v > 0.1 * E / (kPi * cr * cr)) {
+          if (y == hy) reach_x = std::max(reach_x, std::abs(double(x - hx)));
+          if (x == hx) reach_y = std::max(reach_y, std::abs(double(y - hy)));
+        }
+      }
+    EXPECT_NEAR(energy, E, 0.06 * E) << method;
+    EXPECT_LT(far_out, 1e-6) << method;
+    EXPECT_NEAR(reach_x, ax, 1.0) << method;
+    EXPECT_NEAR(reach_y, ay, 1.0) << method;
+    auto tiles = fx::dof_tiles_reference(g.coc, w, h, s);
+    EXPECT_EQ(g.tiles, tiles) << method;
+    EXPECT_LT(max_abs_diff(g.out, reference(sc, g.coc, tiles, s)), 1e-3) << method;
+  }
+}
+
 TEST_F(GpuTest, DofInFocusPlaneStaysSharp) {
   // A textured card at the focus distance in front of a far wall: away from the wall's reach
   // (its CoC, which cannot cross in front of the card anyway) the card is the pinhole image.

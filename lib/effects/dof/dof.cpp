@@ -27,7 +27,13 @@ constexpr double kPi = std::numbers::pi;
 using V2 = std::array<double, 2>;
 using V4 = std::array<double, 4>;
 
-uint32_t margin_of(const DofSettings& s) { return uint32_t(std::ceil(s.lens.max_coc)) + 1u; }
+// dof.anamorphic s: the aperture 1/√s across and √s down (dof_common.h's dof_stretch), as the
+// floats the shaders get.
+float stretch_x(const DofSettings& s) { return float(1.0 / std::sqrt(s.anamorphic)); }
+float stretch_y(const DofSettings& s) { return float(std::sqrt(s.anamorphic)); }
+float reach_scale(const DofSettings& s) { return std::max(stretch_x(s), stretch_y(s)); }
+
+uint32_t margin_of(const DofSettings& s) { return uint32_t(std::ceil(s.lens.max_coc * reach_scale(s))) + 1u; }
 
 double smoothstep(double e0, double e1, double x) {
   double t = std::clamp((x - e0) / (e1 - e0), 0.0, 1.0);
@@ -40,7 +46,10 @@ double smoothstep(double e0, double e1, double x) {
 struct Aperture {
   int blades = 0;
   double rotation = 0;
+  double sx = 1, sy = 1;  // the stretch (dof.anamorphic)
+  V2 stretch(V2 u) const { return {u[0] * sx, u[1] * sy}; }
   double norm(V2 v) const {
+    v = {v[0] / sx, v[1] / sy};
     double len = std::hypot(v[0], v[1]);
     if (blades < 3 || len == 0.0) return len;
     double seg = 2.0 * kPi / blades, phi = std::atan2(v[1], v[0]) - rotation;
@@ -102,7 +111,7 @@ V4 cheap(const Field& F, const Aperture& ap, int grid, int x, int y, double c0) 
   V4 s = c_0;
   double ws = 1.0;
   for (int k = 0; k < grid * grid; ++k) {
-    V2 u = rotate(a, concentric(k, grid)), d{r * u[0], r * u[1]};
+    V2 u = ap.stretch(rotate(a, concentric(k, grid))), d{r * u[0], r * u[1]};
     double w = ap.cover(d, r);
     V4 v = F.fetch_src({p0[0] + d[0], p0[1] + d[1]});
     for (size_t c = 0; c < 4; ++c) s[c] += w * v[c];
@@ -154,7 +163,7 @@ std::vector<float> dof_tiles_reference(const std::vector<float>& coc, int w, int
         for (int x = std::max(x0 - m, 0); x <= std::min(x1 + m, w - 1); ++x) {
           const float c = coc[size_t(y) * w + x];
           const int dx = std::max(std::max(x0 - x, x - x1), 0), dy = std::max(std::max(y0 - y, y - y1), 0);
-          const float reach = std::abs(c) + 1.0f;  // float, as on the GPU: the test is discrete
+          const float reach = (std::abs(c) + 1.0f) * reach_scale(s);  // float, as on the GPU: the test is discrete
           if (float(dx * dx + dy * dy) > reach * reach) continue;
           cmin = std::min(cmin, c);
           cmax = std::max(cmax, c);
@@ -183,7 +192,7 @@ std::vector<float> dof_isg_reference(const std::vector<float>& rgba, const std::
                                      const DofSettings& s) {
   const size_t n = size_t(w) * h;
   const Field F{rgba, coc, w, h};
-  const Aperture ap{s.blades, s.rotation_deg * kPi / 180.0};
+  const Aperture ap{s.blades, s.rotation_deg * kPi / 180.0, stretch_x(s), stretch_y(s)};
   const int N = s.grid * s.grid;
   // dof.search: eq. 16, softened.
   std::vector<double> radius(n);
@@ -196,7 +205,7 @@ std::vector<float> dof_isg_reference(const std::vector<float>& rgba, const std::
       const double R_s = std::max(double(t[2]), 0.5), a = pixel_angle(uint32_t(x), uint32_t(y));
       double sw = 1.0, sv = std::abs(c0);
       for (int k = 0; k < N; ++k) {
-        V2 u = rotate(a, concentric(k, s.grid)), d{R_s * u[0], R_s * u[1]};
+        V2 u = ap.stretch(rotate(a, concentric(k, s.grid))), d{R_s * u[0], R_s * u[1]};
         const double ci = F.fetch_coc({x + 0.5 + d[0], y + 0.5 + d[1]});
         const V2 v = ci >= 0 ? V2{-d[0], -d[1]} : d;  // aperture image inverted in front of focus
         const double wgt = ap.cover(d, R_s) * ap.cover(v, std::abs(ci));
@@ -221,7 +230,7 @@ std::vector<float> dof_isg_reference(const std::vector<float>& rgba, const std::
       V4 acc = c_0;
       double ws = 1.0;
       for (int k = 0; k < N; ++k) {
-        V2 u = rotate(a, concentric(k, s.grid)), d{R_g * u[0], R_g * u[1]};
+        V2 u = ap.stretch(rotate(a, concentric(k, s.grid))), d{R_g * u[0], R_g * u[1]};
         const V2 q{x + 0.5 + d[0], y + 0.5 + d[1]};
         const double ci = F.fetch_coc(q);
         const V2 v = ci >= 0 ? V2{-d[0], -d[1]} : d;
@@ -246,7 +255,7 @@ std::vector<float> dof_layered_reference(const std::vector<float>& rgba,
                                          const DofSettings& s) {
   const size_t n = size_t(w) * h;
   const Field F{rgba, coc, w, h};
-  const Aperture ap{s.blades, s.rotation_deg * kPi / 180.0};
+  const Aperture ap{s.blades, s.rotation_deg * kPi / 180.0, stretch_x(s), stretch_y(s)};
   const double K = ap.area_factor();
   // The lattice for a tile of radius R (as the shader's dof_layered_grid; R is the tile's float).
   auto grid_of = [&](double R) {
@@ -265,7 +274,7 @@ std::vector<float> dof_layered_reference(const std::vector<float>& rgba,
     for (size_t c = 0; c < 4; ++c) { Sn[c] = m0 * w0 * c_0[c]; Sf[c] = (1 - m0) * w0 * c_0[c]; }
     double Wn = m0 * w0, Wf = (1 - m0) * w0;
     for (int k = 0; k < N; ++k) {
-      V2 u = rotate(a, concentric(k, g)), d{R * u[0], R * u[1]};
+      V2 u = ap.stretch(rotate(a, concentric(k, g))), d{R * u[0], R * u[1]};
       const V2 q{x + 0.5 + d[0], y + 0.5 + d[1]};
       const double ci = F.fetch_coc(q);
       const V2 v = ci >= 0 ? V2{-d[0], -d[1]} : d;
@@ -378,6 +387,8 @@ shaders::DofPush push_of(const DofSettings& s, uint32_t w, uint32_t h, bool has_
   pc.depth_form = uint32_t(s.depth_form);
   pc.depth_near = float(s.depth_near);
   pc.depth_far = float(s.depth_far);
+  pc.stretch_x = stretch_x(s);
+  pc.stretch_y = stretch_y(s);
   return pc;
 }
 // `constants`: the passes that include dof_common.h take the blades (DOF_BLADES) as constant 0.

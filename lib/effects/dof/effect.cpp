@@ -39,6 +39,9 @@ class Dof final : public Effect {
       params::def(dof_keys::blades, "6", 3, 16, "blades of a polygon aperture"),
       params::def(dof_keys::rotation, "0", -360, 360, "rotation of a polygon aperture",
        "degrees"),
+      params::def(dof_keys::anamorphic, "1", 0.25, 4,
+       "anamorphic squeeze: the aperture s times as tall as wide (an anamorphic lens's oval "
+       "bokeh; 2 for a 2x lens), of the round aperture's area; below 1, wider than tall"),
       params::def(dof_keys::coc_source, "camera", {"camera", "depth", "channel"},
        "where the circle of confusion comes from: camera (eq. 15 from depth and the camera's "
        "lens, with the overrides above), depth (eq. 15 from depth with dof.focus_distance and "

@@ -16,6 +16,7 @@ inline constexpr params::Number max_coc{"dof.max_coc"};
 inline constexpr params::Choice aperture{"dof.aperture"};
 inline constexpr params::Int blades{"dof.blades"};
 inline constexpr params::Number rotation{"dof.rotation"};
+inline constexpr params::Number anamorphic{"dof.anamorphic"};
 inline constexpr params::Flag tile_skip{"dof.tile_skip"};
 inline constexpr params::Choice coc_source{"dof.coc_source"};
 inline constexpr params::Choice depth_form{"dof.depth_form"};

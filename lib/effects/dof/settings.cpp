@@ -38,6 +38,7 @@ DofSettings dof_settings(const io::Camera& cam, const std::string& units, const 
   s.grid = std::max(1, int(std::lround(std::sqrt(double(p.get(dof_keys::samples))))));
   s.blades = p.get(dof_keys::aperture) == "polygon" ? int(p.get(dof_keys::blades)) : 0;
   s.rotation_deg = p.get(dof_keys::rotation);
+  s.anamorphic = p.get(dof_keys::anamorphic);
   s.tile_skip = p.get(dof_keys::tile_skip);
   const std::string source = p.get(dof_keys::coc_source), form = p.get(dof_keys::depth_form);
   s.coc_source = source == "channel" ? 1 : 0;

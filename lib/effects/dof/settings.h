@@ -26,6 +26,7 @@ struct DofSettings {
   int grid = 8;            // samples per pass = grid², a regular grid through the concentric map
   int blades = 0;          // 0: disk; n >= 3: n-blade polygon
   double rotation_deg = 0;  // polygon rotation
+  double anamorphic = 1;    // dof.anamorphic: the aperture's height over its width
   bool tile_skip = true;   // cheap path for tiles whose CoC range is under half a pixel
   // dof.coc_source: 0 eq. 15 from depth (camera or depth), 1 a CoC channel (times lens.c_inf,
   // which is then dof.coc_scale).
