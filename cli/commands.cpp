@@ -1,6 +1,7 @@
 // `isg info`, `compare`, `roofline`, `devices`, `params`, `presets`: parse and print.
 #include <nlohmann/json.hpp>
 
+#include <algorithm>
 #include <cmath>
 #include <iomanip>
 #include <iostream>
@@ -11,7 +12,6 @@
 #include "cli.h"
 #include "isg_version.h"
 #include "effects/params.h"
-#include "effects/shadows/settings.h"
 #include "gpu/gpu.h"
 #include "io/color.h"
 #include "metrics/compare.h"
@@ -35,17 +35,38 @@ int cmd_info(const Common& c, const std::string& input, bool as_json) {
   const auto& roles = f.roles;
   const std::optional<isg::io::Camera>& cam = f.camera;
   auto caps = isg::plan::capabilities(f.roles, scene, cam.has_value());
-  // What shadows.method = auto would pick for each light whose soft shadows can run, and why
-  // (issue 19): from the pixels, so only then are they read.
-  std::map<std::string, isg::effects::ShadowAuto> picks;
-  for (const auto& e : caps) {
-    if (!e.runs || e.effect.rfind("shadows[", 0) != 0) continue;
-    if (picks.empty()) {
-      img = isg::io::read_exr(input, job.limits);
-      isg::run::refit_positions(f);
+  // What `auto` would pick, and why, for every parameter that offers it (shadows.method, issue
+  // 19), through the effects' own Effect::choose with those parameters set to auto (issue 56):
+  // from the pixels, so they are read only where an effect of such a parameter's section runs.
+  struct Pick {
+    std::string key, method, why;
+  };
+  auto p_auto = job.params;
+  std::vector<std::string> auto_keys;
+  for (const auto& d : p_auto.defs())
+    if (d.type == isg::params::Type::choice && std::find(d.choices.begin(), d.choices.end(), "auto") != d.choices.end()) {
+      p_auto.set_text(d.key, "auto", "isg info");
+      auto_keys.push_back(d.key);
     }
-    const std::string l = e.effect.substr(8, e.effect.size() - 9);
-    picks[e.effect] = isg::effects::choose_shadow_method(img, f.roles, scene.light(l), l, cam ? &*cam : nullptr);
+  auto section_of = [](const std::string& key) { return key.substr(0, key.find('.')); };
+  std::map<std::string, Pick> picks;
+  bool read = false;
+  for (const auto& e : caps)
+    for (const auto& k : auto_keys)
+      read = read || (e.runs && e.effect.rfind(section_of(k), 0) == 0);
+  if (read) {
+    img = isg::io::read_exr(input, job.limits);
+    isg::run::refit_positions(f);
+    const auto choices = isg::plan::choose_from_pixels(f.roles, scene, p_auto, img, cam ? &*cam : nullptr);
+    for (const auto& e : caps) {
+      auto it = choices.find(e.effect);
+      if (!e.runs || it == choices.end()) continue;
+      std::string key;
+      for (const auto& k : auto_keys)
+        if (e.effect.rfind(section_of(k), 0) == 0) key = k;
+      auto why = choices.find(e.effect + "/why");
+      picks[e.effect] = {key, it->second, why == choices.end() ? "" : why->second};
+    }
   }
 
   std::vector<std::string> all_roles = isg::io::global_roles();
@@ -97,7 +118,7 @@ int cmd_info(const Common& c, const std::string& input, bool as_json) {
     std::cout << "  " << std::left << std::setw(14) << e.effect
               << (e.runs ? (e.why.empty() ? "can run" : "can run: " + e.why) : "cannot run: " + e.why) << "\n";
     if (auto it = picks.find(e.effect); it != picks.end())
-      std::cout << "  " << std::setw(14) << "" << "shadows.method=auto picks " << it->second.method << ": "
+      std::cout << "  " << std::setw(14) << "" << it->second.key << "=auto picks " << it->second.method << ": "
                 << it->second.why << "\n";
   }
   return 0;
