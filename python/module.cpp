@@ -67,7 +67,9 @@ run::JobOptions options(const py::object& scene, const py::object& preset, const
     return o.is_none() ? std::string() : py::str(o).cast<std::string>();
   };
   run::JobOptions o;
-  o.flag_prefix = "";  // errors name Python's keywords: set, channels
+  o.set_label = "set";  // errors name Python's keywords
+  o.channel_label = "channels";
+  o.compression_label = "compression";
   o.scene = text(scene);  // str or os.PathLike
   o.preset = text(preset);
   o.layer = text(layer);

@@ -63,26 +63,36 @@ namespace {
 
 // An output is written to a temporary file beside it and renamed over it only once complete
 // (issue 54): a full disk, a kill at any point or a second writer leaves the target either as
-// it was or whole. The temporary's name carries the writer's pid, so that a later write of the
-// same target removes what a killed writer left (its pid gone) and never a live writer's.
+// it was or whole. The temporary's name carries the writer's pid and host, so that a later write
+// of the same target on the same host removes what a killed writer left (its pid gone) and
+// never a live writer's, nor one on another host sharing the folder (a farm's file server).
 const std::string kTmpTag = ".tmp";
+
+std::string host_name() {
+  char h[256] = {};
+  if (::gethostname(h, sizeof h - 1) != 0) return "host";
+  std::string s(h);
+  for (char& c : s)
+    if (c == '/' || c == '@') c = '_';
+  return s;
+}
 
 fs::path temp_beside(const fs::path& path, const std::string& ext) {
   std::mt19937_64 rng(std::random_device{}());
   fs::path tmp = path;
   tmp.replace_filename("." + path.filename().string() + kTmpTag + std::to_string(::getpid()) + "-" +
-                       std::to_string(rng() % 1000000) + ext);
+                       std::to_string(rng() % 1000000) + "@" + host_name() + ext);
   return tmp;
 }
 
-// Removes the temporaries of `path` whose writers are no longer running.
+// Removes the temporaries of `path` left by writers of this host that are no longer running.
 void remove_stale_temps(const fs::path& path) {
-  const std::string prefix = "." + path.filename().string() + kTmpTag;
+  const std::string prefix = "." + path.filename().string() + kTmpTag, host = "@" + host_name() + ".";
   const fs::path dir = path.parent_path().empty() ? fs::path(".") : path.parent_path();
   std::error_code ec;
   for (auto it = fs::directory_iterator(dir, ec); !ec && it != fs::directory_iterator(); it.increment(ec)) {
     const std::string name = it->path().filename().string();
-    if (name.rfind(prefix, 0) != 0) continue;
+    if (name.rfind(prefix, 0) != 0 || name.find(host, prefix.size()) == std::string::npos) continue;
     const std::string rest = name.substr(prefix.size());
     const size_t dash = rest.find('-');
     if (dash == std::string::npos || dash == 0 || rest.find_first_not_of("0123456789") != dash) continue;
@@ -99,8 +109,16 @@ void remove_stale_temps(const fs::path& path) {
 // meanwhile is never replaced. Returns the error text, empty on success.
 std::string commit_temp(const fs::path& tmp, const fs::path& path, bool no_clobber) {
   if (no_clobber) {
+    const char* appeared = "appeared while writing, and --no-clobber was given";
     if (::renameat2(AT_FDCWD, tmp.c_str(), AT_FDCWD, path.c_str(), RENAME_NOREPLACE) == 0) return "";
-    return errno == EEXIST ? "appeared while writing, and --no-clobber was given" : std::strerror(errno);
+    if (errno == EEXIST) return appeared;
+    if (errno != EINVAL && errno != ENOSYS) return std::strerror(errno);
+    // A filesystem without RENAME_NOREPLACE (NFS, some FUSE): link() refuses an existing name
+    // as atomically.
+    if (::link(tmp.c_str(), path.c_str()) != 0) return errno == EEXIST ? appeared : std::strerror(errno);
+    std::error_code ec;
+    fs::remove(tmp, ec);
+    return "";
   }
   std::error_code ec;
   fs::rename(tmp, path, ec);

@@ -33,11 +33,6 @@ bool under(const fs::path& file, const fs::path& dir) {
   return end == d.end();
 }
 
-bool present(const fs::path& p) {
-  std::error_code ec;
-  return !p.empty() && fs::exists(p, ec);
-}
-
 }  // namespace
 
 Layout layout_of(const fs::path& self, const fs::path& to_prefix) {
@@ -55,12 +50,12 @@ Layout layout_of(const fs::path& self, const fs::path& to_prefix) {
   }
   if (!l.in_build_tree) l.preset_dirs.push_back(l.prefix / "share" / "isg" / "presets");
   if (l.in_build_tree && !std::string(ISG_SOURCE_PRESETS).empty()) l.preset_dirs.emplace_back(ISG_SOURCE_PRESETS);
-  if (const char* env = std::getenv("ISG_EXRCHECK"); env && present(env)) {
+  // Always a path, found or not: where it is missing, reading says so (limits.check_seconds)
+  // rather than decoding in-process without the child's protection.
+  if (const char* env = std::getenv("ISG_EXRCHECK"); env && *env) {
     l.exrcheck = env;
-  } else if (fs::path p = l.prefix / "bin" / "isg-exrcheck"; !l.in_build_tree && present(p)) {
-    l.exrcheck = p;
-  } else if (l.in_build_tree && present(ISG_BUILD_EXRCHECK)) {
-    l.exrcheck = ISG_BUILD_EXRCHECK;
+  } else {
+    l.exrcheck = l.in_build_tree ? fs::path(ISG_BUILD_EXRCHECK) : l.prefix / "bin" / "isg-exrcheck";
   }
   return l;
 }

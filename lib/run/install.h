@@ -15,7 +15,7 @@ struct Layout {
   std::filesystem::path prefix;    // the install prefix it sits in (`self`'s bin/.. and so on)
   bool in_build_tree = false;      // `self` is under the build folder it was built in
   std::vector<std::filesystem::path> preset_dirs;  // $ISG_PRESET_PATH, prefix/share/isg/presets, source presets/ (build tree only)
-  std::filesystem::path exrcheck;  // $ISG_EXRCHECK, else prefix/bin/isg-exrcheck, else the build's; empty: none found
+  std::filesystem::path exrcheck;  // $ISG_EXRCHECK, else prefix/bin/isg-exrcheck (the build's in the build tree), found or not
 };
 
 // `self` is the binary's file; `to_prefix` the relative path from its folder to the install

@@ -8,11 +8,11 @@ namespace isg::run {
 params::Params job_params(const JobOptions& o, const Layout& layout) {
   auto p = effects::default_params();
   if (!o.preset.empty()) p.load_preset(o.preset, layout.preset_dirs);
-  if (!o.compression.empty()) p.set_text("output.compression", o.compression, o.flag_prefix + "compression");
+  if (!o.compression.empty()) p.set_text("output.compression", o.compression, o.compression_label);
   for (const auto& s : o.sets) {
     const auto eq = s.find('=');
-    if (eq == std::string::npos) throw params::ParamError(o.flag_prefix + "set " + s + ": expected KEY=VALUE");
-    p.set_text(s.substr(0, eq), s.substr(eq + 1), o.flag_prefix + "set");
+    if (eq == std::string::npos) throw params::ParamError(o.set_label + " " + s + ": expected KEY=VALUE");
+    p.set_text(s.substr(0, eq), s.substr(eq + 1), o.set_label);
   }
   return p;
 }
@@ -39,9 +39,9 @@ JobConfig make_job(const JobOptions& o, const Layout& layout, const std::string&
   }
   for (const auto& [role, name] : o.channels) {
     if (role.empty() || name.empty())
-      throw io::IoError(o.flag_prefix + "channel " + role + "=" + name + ": expected ROLE=NAME");
+      throw io::IoError(o.channel_label + " " + role + "=" + name + ": expected ROLE=NAME");
     req.overrides[role] = name;
-    req.override_how[role] = o.flag_prefix + "channel";
+    req.override_how[role] = o.channel_label;
   }
   job.limits = read_limits(job.params, layout);
   job.write = {job.params.get(effects::output_keys::compression), o.no_clobber};

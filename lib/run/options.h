@@ -21,8 +21,8 @@ struct JobOptions {
   std::string compression;                                  // output.compression; empty: the preset's
   std::string input_colorspace;                             // empty: scene-linear
   bool no_clobber = false;
-  // How errors name the options: "--" for the CLI (--set, --channel), "" for Python's keywords.
-  std::string flag_prefix = "--";
+  // How errors and provenance name the options: the CLI's flags, or Python's keywords.
+  std::string set_label = "--set", channel_label = "--channel", compression_label = "--compression";
 };
 
 // Defaults, then the preset (looked up in layout.preset_dirs), then compression, then the sets.

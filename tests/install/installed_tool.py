@@ -93,6 +93,20 @@ try:
     check(where.startswith(usr), f"import isg from the package: {where}")
     check(exr_bytes.same(built, py_out), "isg.run from the installed module writes the same, bitwise")
 
+    # Pixels are decoded in the installed isg-exrcheck child (the layout finds it beside the
+    # prefix): its wording, not the in-process decoder's, for pixel data OpenEXR cannot decode.
+    sys.path.insert(0, os.path.join(source, "tests", "support"))
+    import exr_craft  # noqa: E402
+    damaged = os.path.join(work, "damaged.exr")
+    with open(damaged, "wb") as f:
+        f.write(exr_craft.scanline_file((0, 0, 7, 15), "zip", [(0, bytes(range(40)))]))
+    p = subprocess.run(["isg", "run", damaged, "-o", os.path.join(work, "d.exr")], env=env, cwd=work,
+                       capture_output=True, text=True)
+    check(p.returncode == 1 and "damaged EXR" in p.stderr, f"the installed isg decodes in its child: {p.stderr.strip()}")
+    code = f"import isg\ntry:\n    isg.run({damaged!r}, {os.path.join(work, 'e.exr')!r})\nexcept isg.Error as e:\n    print(e)"
+    msg = run(["/usr/bin/python3", "-c", code], env=py_env, cwd=work)
+    check("damaged EXR" in msg, f"the installed module decodes in the child too: {msg.strip()}")
+
     page = run(["man", "-l", os.path.join(usr, "share", "man", "man1", "isg.1")],
                env=dict(env, MANWIDTH="100"))
     check("isg run" in page and "ENVIRONMENT" in page and "ISG_PRESET_PATH" in page,

@@ -83,7 +83,10 @@ def damaged_corpus():
         yield f"claims-{comp}", scanline_file(big, comp, [(0, data)])
         lpc = LINES_PER_CHUNK[comp]
         win = (0, 0, 7, 3 * lpc - 1)  # three chunks
-        chunks = [(k * lpc, data[:64 if comp == "none" else 40]) for k in range(3)]  # none: 8 RGBA halves
+        # Chunks of sizes a real file's could have (none: 8 RGBA halves exactly; b44: within 11:1),
+        # so that each file is refused by the check it is made for.
+        size = {"none": 64, "b44": 200, "b44a": 200}.get(comp, 40)
+        chunks = [(k * lpc, data[:size]) for k in range(3)]
         good = scanline_file(win, comp, chunks)
         table = 8 + len(header(win, comp)) + 1  # the offset table follows the header
         offs = [int.from_bytes(good[table + 8 * k:table + 8 * k + 8], "little") for k in range(3)]

@@ -2,8 +2,13 @@
 // never a crash, a hang or an allocation past the limits.
 #include <gtest/gtest.h>
 
+#include <OpenEXR/ImfChannelList.h>
+#include <OpenEXR/ImfFrameBuffer.h>
+#include <OpenEXR/ImfHeader.h>
+#include <OpenEXR/ImfTiledOutputFile.h>
 #include <OpenImageIO/imageio.h>
 
+#include <algorithm>
 #include <cstring>
 #include <fstream>
 #include <set>
@@ -354,4 +359,42 @@ TEST(Hostile, DecoderCrashHangOrExhaustionBecomesAnError) {
   req.planes.pop_back();
   isg::io::decode_exr_in_child(dir / "a.exr", ISG_EXRCHECK, req, 10, 1 << 30, plane);
   EXPECT_EQ(copied, int(req.planes.size()));
+}
+
+// The table-entry checks accept tiled files OpenEXR wrote: one level, mipmapped and ripmapped
+// (levels in order, each level's tiles row by row, edge tiles clipped), rounding down and up.
+TEST(Hostile, TiledFilesOpenExrWroteAreAccepted) {
+  auto dir = isg::test::temp_dir("tiled");
+  const int W = 45, H = 29;
+  int n = 0;
+  for (auto mode : {Imf::ONE_LEVEL, Imf::MIPMAP_LEVELS, Imf::RIPMAP_LEVELS})
+    for (auto rounding : {Imf::ROUND_DOWN, Imf::ROUND_UP}) {
+      const auto path = (dir / ("t" + std::to_string(n++) + ".exr")).string();
+      Imf::Header header(W, H);
+      header.channels().insert("R", Imf::Channel(Imf::HALF));
+      header.compression() = Imf::ZIP_COMPRESSION;
+      header.setTileDescription(Imf::TileDescription(16, 8, mode, rounding));
+      {
+        Imf::TiledOutputFile out(path.c_str(), header);
+        for (int ly = 0; ly < out.numYLevels(); ++ly)
+          for (int lx = 0; lx < out.numXLevels(); ++lx) {
+            if (mode == Imf::MIPMAP_LEVELS && lx != ly) continue;
+            if (mode == Imf::ONE_LEVEL && (lx || ly)) continue;
+            const int w = out.levelWidth(lx), h = out.levelHeight(ly);
+            std::vector<half> px(size_t(w) * h);
+            for (size_t i = 0; i < px.size(); ++i) px[i] = half(0.01f * float(i % 97));
+            Imf::FrameBuffer fb;
+            fb.insert("R", Imf::Slice(Imf::HALF, reinterpret_cast<char*>(px.data()), sizeof(half), sizeof(half) * size_t(w)));
+            out.setFrameBuffer(fb);
+            out.writeTiles(0, out.numXTiles(lx) - 1, 0, out.numYTiles(ly) - 1, lx, ly);
+          }
+      }
+      auto layout = isg::io::check_exr_structure(path, {});
+      ASSERT_EQ(layout.parts.size(), 1u);
+      EXPECT_TRUE(layout.parts[0].tiled);
+      EXPECT_EQ(layout.parts[0].level_mode, int(mode)) << path;
+      auto img = isg::io::read_exr(path, checked());
+      ASSERT_EQ(img.width, W);
+      EXPECT_NEAR(img.find("R")->data[100], 0.01f * 3.0f, 1e-3) << path;  // 100 % 97
+    }
 }

@@ -33,7 +33,9 @@ float stretch_x(const DofSettings& s) { return float(1.0 / std::sqrt(s.anamorphi
 float stretch_y(const DofSettings& s) { return float(std::sqrt(s.anamorphic)); }
 float reach_scale(const DofSettings& s) { return std::max(stretch_x(s), stretch_y(s)); }
 
-uint32_t margin_of(const DofSettings& s) { return uint32_t(std::ceil(s.lens.max_coc * reach_scale(s))) + 1u; }
+// The tiles' reach test accepts (|c| + 1) · reach_scale: the margin holds it (at scale 1,
+// ceil(max_coc) + 1 as before).
+uint32_t margin_of(const DofSettings& s) { return uint32_t(std::ceil((s.lens.max_coc + 1.0) * reach_scale(s))); }
 
 double smoothstep(double e0, double e1, double x) {
   double t = std::clamp((x - e0) / (e1 - e0), 0.0, 1.0);
