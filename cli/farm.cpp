@@ -8,6 +8,7 @@
 #include "farm/farm.h"
 #include "io/image.h"
 #include "io/scene.h"
+#include "frames/frames.h"
 #include "run/job.h"
 
 namespace isg::cli {
@@ -90,7 +91,7 @@ int FarmCommand::submit() const {
   const auto& a = s_;
   farm::JobSpec job;
   try {
-    job.frames = run::parse_frames(a.frames);
+    job.frames = frames::parse_frames(a.frames);
   } catch (const std::invalid_argument& e) {
     throw farm::UsageError(e.what());
   }
@@ -103,7 +104,7 @@ int FarmCommand::submit() const {
   std::sort(job.frames.begin(), job.frames.end());
   job.frames.erase(std::unique(job.frames.begin(), job.frames.end()), job.frames.end());
   for (const auto* p : {&a.input, &a.output}) {
-    if (!run::is_sequence_pattern(*p))
+    if (!frames::is_sequence_pattern(*p))
       throw farm::UsageError(*p + ": needs a frame pattern (#### or %04d)");
   }
   // Tasks run elsewhere: every path absolute.
@@ -152,7 +153,7 @@ int FarmCommand::submit() const {
     std::vector<int> todo;
     for (int f : job.frames) {
       std::error_code ec;
-      const auto out = run::expand_pattern(job.output, f);
+      const auto out = frames::expand_pattern(job.output, f);
       if (!(fs::is_regular_file(out, ec) && fs::file_size(out, ec) > 0)) todo.push_back(f);
     }
     if (todo.size() < job.frames.size())

@@ -16,6 +16,7 @@
 #include "gpu/gpu.h"
 #include "io/color.h"
 #include "roofline/roofline.h"
+#include "frames/frames.h"
 #include "run/install.h"
 #include "run/job.h"
 #include "run/options.h"
@@ -219,11 +220,11 @@ class ProgressObserver final : public isg::run::SequenceObserver {
 int run_sequence(const RunArgs& a, isg::run::JobConfig& job) {
   const auto seq = isg::run::sequence_options(a.input, a.output, a.frames, a.skip_existing, a.keep_going);
   if (a.dry_run) {
-    auto f = isg::run::plan_frame(job, isg::run::expand_pattern(a.input, seq.frames.front()));
+    auto f = isg::run::plan_frame(job, isg::frames::expand_pattern(a.input, seq.frames.front()));
     std::cout << seq.frames.size() << " frames; first frame's " << f.plan.describe();
     return f.plan.missing.empty() ? kOk : kError;
   }
-  isg::io::check_writable(isg::run::expand_pattern(a.output, seq.frames.front()), {job.write.compression, false});
+  isg::io::check_writable(isg::frames::expand_pattern(a.output, seq.frames.front()), {job.write.compression, false});
   Progress progress(seq.frames.size());
   ProgressObserver obs(progress);
   const auto todo = isg::run::frames_to_do(seq, obs);
@@ -257,7 +258,7 @@ int cmd_run(const RunArgs& a) {
   if (a.input.empty()) throw isg::io::IoError("isg run: no input file given");
   if (a.output.empty() && !a.dry_run) throw isg::io::IoError("isg run: no output given (-o FILE)");
   auto job = isg::run::make_job(o, layout, ISG_VERSION);
-  if (isg::run::is_sequence_pattern(a.input) && !fs::exists(a.input)) {
+  if (isg::frames::is_sequence_pattern(a.input) && !fs::exists(a.input)) {
     if (!a.focus_view.empty()) throw isg::io::IoError(a.focus_view + ": --focus-view takes one frame, not a sequence");
     return run_sequence(a, job);
   }

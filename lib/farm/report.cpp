@@ -10,7 +10,7 @@
 #include <sstream>
 
 #include "farm/farm.h"
-#include "run/job.h"
+#include "frames/frames.h"
 
 namespace isg::farm {
 
@@ -86,7 +86,7 @@ Summary summarize(const fs::path& log_dir) {
     t.errors = log.errors;
     size_t present = 0;
     for (int f : c.frames) {
-      if (output_exists(run::expand_pattern(m.output, f))) {
+      if (output_exists(frames::expand_pattern(m.output, f))) {
         ++present;
         continue;
       }

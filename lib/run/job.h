@@ -67,10 +67,6 @@ Stats process_frame(gpu::Context& ctx, const JobConfig& job, LoadedFrame& frame)
 // Atomic write; returns the wall time in ms.
 double write_frame(const JobConfig& job, const LoadedFrame& frame, const std::string& output);
 
-// Frame sequences: "####" (zero-padded to the number of #) or printf-style "%04d" / "%d".
-bool is_sequence_pattern(const std::string& path);
-std::string expand_pattern(const std::string& pattern, int frame);
-// "1001-1100", "1001-1100x4" (every 4th), "1,5,9-12"; throws std::invalid_argument naming it.
-std::vector<int> parse_frames(const std::string& spec);
+
 
 }  // namespace isg::run

@@ -1,5 +1,7 @@
 #include "run/sequence.h"
 
+#include "frames/frames.h"
+
 #include <filesystem>
 #include <future>
 #include <memory>
@@ -13,12 +15,12 @@ namespace fs = std::filesystem;
 SequenceOptions sequence_options(const std::string& input, const std::string& output,
                                  const std::string& frames, bool skip_existing, bool keep_going) {
   if (frames.empty()) throw io::IoError(input + ": a frame pattern needs --frames A-B");
-  if (!is_sequence_pattern(output)) {
+  if (!isg::frames::is_sequence_pattern(output)) {
     throw io::IoError(output + ": -o needs a frame pattern (#### or %04d) for a sequence");
   }
   SequenceOptions o{input, output, {}, skip_existing, keep_going};
   try {
-    o.frames = parse_frames(frames);
+    o.frames = isg::frames::parse_frames(frames);
   } catch (const std::invalid_argument& e) {
     throw io::IoError(e.what());
   }
@@ -28,7 +30,7 @@ SequenceOptions sequence_options(const std::string& input, const std::string& ou
 std::vector<int> frames_to_do(const SequenceOptions& o, SequenceObserver& obs) {
   std::vector<int> todo;
   for (int fr : o.frames) {
-    std::string out = expand_pattern(o.output, fr);
+    std::string out = isg::frames::expand_pattern(o.output, fr);
     std::error_code ec;
     if (o.skip_existing && fs::exists(out, ec) && fs::file_size(out, ec) > 0) {
       obs.skipped("frame " + std::to_string(fr) + ": " + out + " exists, skipped");
@@ -54,7 +56,7 @@ SequenceResult run_sequence(Runner& runner, const JobConfig& job, const Sequence
   if (todo.empty()) return res;
   auto load = [&](int fr) {
     return std::async(std::launch::async, [&job, &o, fr] {
-      return load_frame(job, expand_pattern(o.input, fr));
+      return load_frame(job, isg::frames::expand_pattern(o.input, fr));
     });
   };
   std::future<LoadedFrame> next = load(todo.front());
@@ -70,7 +72,7 @@ SequenceResult run_sequence(Runner& runner, const JobConfig& job, const Sequence
   };
   for (size_t i = 0; i < todo.size(); ++i) {
     const int fr = todo[i];
-    const std::string out = expand_pattern(o.output, fr);
+    const std::string out = isg::frames::expand_pattern(o.output, fr);
     std::optional<LoadedFrame> f;
     std::string error;
     try {

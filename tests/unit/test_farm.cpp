@@ -9,6 +9,7 @@
 #include <sstream>
 
 #include "farm/farm.h"
+#include "frames/frames.h"
 #include "run/job.h"
 #include "support/images.h"
 
@@ -42,19 +43,19 @@ TEST(FarmChunks, SpecsSpellExactlyTheirFrames) {
       frames.push_back(f);
       f += rng() % 3 == 0 ? int(rng() % 7) + 1 : 1;
     }
-    EXPECT_EQ(run::parse_frames(farm::frames_spec(frames)), frames) << farm::frames_spec(frames);
+    EXPECT_EQ(isg::frames::parse_frames(farm::frames_spec(frames)), frames) << farm::frames_spec(frames);
   }
 }
 
 TEST(FarmChunks, CoverTheRangeInOrderWithTaskIdsFromZero) {
-  const auto frames = run::parse_frames("1001-1100");
+  const auto frames = isg::frames::parse_frames("1001-1100");
   const auto chunks = farm::make_chunks(frames, 7);
   ASSERT_EQ(chunks.size(), 15u);  // 14 of 7 and one of 2
   std::vector<int> all;
   for (size_t i = 0; i < chunks.size(); ++i) {
     EXPECT_EQ(chunks[i].task, int(i));
     EXPECT_LE(chunks[i].frames.size(), 7u);
-    EXPECT_EQ(run::parse_frames(chunks[i].spec), chunks[i].frames);
+    EXPECT_EQ(isg::frames::parse_frames(chunks[i].spec), chunks[i].frames);
     all.insert(all.end(), chunks[i].frames.begin(), chunks[i].frames.end());
   }
   EXPECT_EQ(all, frames);
@@ -73,7 +74,7 @@ TEST(FarmScript, EachArrayTaskRunsItsChunkAndLeavesAResult) {
   farm::JobSpec job;
   job.input = "/in/shot.####.exr";
   job.output = "/out/it's.####.exr";
-  job.frames = run::parse_frames("1001-1100");
+  job.frames = isg::frames::parse_frames("1001-1100");
   job.chunk = 10;
   job.max_parallel = 4;
   job.isg = fake.string();
@@ -125,9 +126,9 @@ TEST(FarmSummary, FailedFramesAreThoseWithoutOutputWithTheLogsReason) {
   const fs::path logs = dir / "logs";
   fs::create_directories(logs);
   farm::Manifest m{"12", (dir / "in.####.exr").string(), (dir / "out.####.exr").string(),
-                   farm::make_chunks(run::parse_frames("1001-1010"), 4)};
+                   farm::make_chunks(isg::frames::parse_frames("1001-1010"), 4)};
   farm::write_manifest(logs, m);
-  for (int f : {1001, 1002, 1003, 1004, 1006, 1008}) write(run::expand_pattern(m.output, f), "exr");
+  for (int f : {1001, 1002, 1003, 1004, 1006, 1008}) write(isg::frames::expand_pattern(m.output, f), "exr");
   // Task 0: all written. Task 1: frame 1005 bad, 1007 failed after its log line was cut.
   // Task 2 (1009-1010): never ran, no log, no result.
   write(farm::task_result(logs, "12", 0), "0 1001-1004\n");
@@ -154,7 +155,7 @@ TEST(FarmSummary, FailedFramesAreThoseWithoutOutputWithTheLogsReason) {
   // Once task 2 reports, only frames failed: exit 3 (retry them).
   write(farm::task_result(logs, "12", 2), "3 1009-1010\n");
   EXPECT_EQ(farm::summarize(logs).exit_code(), farm::kSomeFramesFailed);
-  for (int f : {1005, 1007, 1009, 1010}) write(run::expand_pattern(m.output, f), "exr");
+  for (int f : {1005, 1007, 1009, 1010}) write(isg::frames::expand_pattern(m.output, f), "exr");
   EXPECT_EQ(farm::summarize(logs).exit_code(), farm::kOk);
   write(farm::task_result(logs, "12", 2), "2 1009-1010\n");
   EXPECT_EQ(farm::summarize(logs).exit_code(), farm::kUsage);

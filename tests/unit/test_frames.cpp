@@ -1,18 +1,18 @@
 #include <gtest/gtest.h>
 
-#include "run/job.h"
+#include "frames/frames.h"
 
-using isg::run::expand_pattern;
-using isg::run::parse_frames;
+using isg::frames::expand_pattern;
+using isg::frames::parse_frames;
 
 TEST(Frames, Patterns) {
   EXPECT_EQ(expand_pattern("shot.####.exr", 7), "shot.0007.exr");
   EXPECT_EQ(expand_pattern("/a/b/s_##.exr", 1001), "/a/b/s_1001.exr");
   EXPECT_EQ(expand_pattern("out.%04d.exr", 12), "out.0012.exr");
   EXPECT_EQ(expand_pattern("out.%d.exr", 12), "out.12.exr");
-  EXPECT_TRUE(isg::run::is_sequence_pattern("x.####.exr"));
-  EXPECT_TRUE(isg::run::is_sequence_pattern("x.%05d.exr"));
-  EXPECT_FALSE(isg::run::is_sequence_pattern("x.0001.exr"));
+  EXPECT_TRUE(isg::frames::is_sequence_pattern("x.####.exr"));
+  EXPECT_TRUE(isg::frames::is_sequence_pattern("x.%05d.exr"));
+  EXPECT_FALSE(isg::frames::is_sequence_pattern("x.0001.exr"));
 }
 
 TEST(Frames, Ranges) {
