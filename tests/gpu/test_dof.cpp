@@ -114,6 +114,19 @@ Scene2 layered_scene(int w, int h) {
   return sc;
 }
 
+// One bright pixel (energy E in R, G, B) at (hx, hy) on a black wall at depth 10, c = 8 px with
+// c_inf 10 and z_f 2 (the depths alternate by 0.05 so that no tile takes the cheap path).
+Scene2 highlight_scene(int w, int h, int hx, int hy, float E) {
+  Scene2 sc{w, h, std::vector<float>(4 * size_t(w) * h, 0.0f), std::vector<float>(size_t(w) * h)};
+  const size_t n = sc.n();
+  for (size_t i = 0; i < n; ++i) {
+    sc.depth[i] = 10.0f + 0.05f * float(i % 2);
+    sc.rgba[3 * n + i] = 1.0f;
+  }
+  for (int c = 0; c < 3; ++c) sc.rgba[c * n + size_t(hy) * w + hx] = E;
+  return sc;
+}
+
 double max_abs_diff(const std::vector<float>& a, const std::vector<float>& b) {
   double m = 0;
   for (size_t i = 0; i < a.size(); ++i) m = std::max(m, double(std::abs(a[i] - b[i])));
@@ -209,15 +222,9 @@ TEST_F(GpuTest, DofCocFromDepthFormsAndACocChannel) {
 // squeezed at the same area), with its energy kept; each method against its double reference.
 TEST_F(GpuTest, DofAnamorphicHighlightIsAnOvalWithEnergyKept) {
   const int w = 48, h = 64;
-  Scene2 sc{w, h, std::vector<float>(4 * size_t(w) * h, 0.0f), std::vector<float>(size_t(w) * h)};
-  const size_t n = sc.n();
   const int hx = 24, hy = 32;
   const float E = 100.0f;
-  for (size_t i = 0; i < n; ++i) {
-    sc.depth[i] = 10.0f + 0.05f * float(i % 2);  // not a cheap tile
-    sc.rgba[3 * n + i] = 1.0f;
-  }
-  for (int c = 0; c < 3; ++c) sc.rgba[c * n + size_t(hy) * w + hx] = E;
+  const Scene2 sc = highlight_scene(w, h, hx, hy, E);
   const double cr = 8.0, ax = cr / std::sqrt(2.0), ay = cr * std::sqrt(2.0);
   for (const std::string method : {"isg", "layered"}) {
     auto s = settings(method, 10.0, 2.0, 24);
@@ -317,15 +324,9 @@ TEST_F(GpuTest, DofHighlightBecomesApertureDiscWithEnergyKept) {
   // One bright pixel on a black wall at depth 10 (c = 8 px): a disc of radius c holding the
   // pixel's energy; with a 6-blade aperture, a hexagon (longer to its corners than its edges).
   const int w = 48, h = 48;
-  Scene2 sc{w, h, std::vector<float>(4 * size_t(w) * h, 0.0f), std::vector<float>(size_t(w) * h)};
-  const size_t n = sc.n();
   const int hx = 24, hy = 24;
   const float E = 100.0f;
-  for (size_t i = 0; i < n; ++i) {
-    sc.depth[i] = 10.0f + 0.05f * float(i % 2);  // not a cheap tile
-    sc.rgba[3 * n + i] = 1.0f;
-  }
-  for (int c = 0; c < 3; ++c) sc.rgba[c * n + size_t(hy) * w + hx] = E;
+  const Scene2 sc = highlight_scene(w, h, hx, hy, E);
   const double cr = 10.0 * 8.0 / 10.0;
   for (const std::string method : {"isg", "layered"}) {
     for (int blades : {0, 6}) {
