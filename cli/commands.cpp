@@ -82,6 +82,7 @@ int cmd_info(const Common& c, const std::string& input, bool as_json) {
     j["channels"] = channels;
     j["layer"] = roles.layer;
     j["lights"] = roles.lights;
+    for (const auto& l : scene.lights) j["scene_lights"][l.name] = isg::io::describe(l);
     j["camera"] = cam ? json(cam->source) : json(nullptr);
     j["positions"] = !f.positions.empty()         ? f.positions
                      : f.roles.has("position")    ? std::string("P")
@@ -112,6 +113,8 @@ int cmd_info(const Common& c, const std::string& input, bool as_json) {
     std::cout << chans << "  (" << b->how << ")\n";
   }
   std::cout << "camera: " << (cam ? cam->source : std::string("none")) << "\n";
+  if (!scene.lights.empty()) std::cout << "scene lights:\n";
+  for (const auto& l : scene.lights) std::cout << "  " << std::left << std::setw(14) << l.name << isg::io::describe(l) << "\n";
   if (!f.positions.empty()) std::cout << "positions: " << f.positions << "\n";
   std::cout << "effects:\n";
   for (const auto& e : caps) {

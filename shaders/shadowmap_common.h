@@ -43,20 +43,40 @@ float sm_input_step(uint i) {
   return e > 23u ? uintBitsToFloat((e - 23u) << 23) : 0.0;
 }
 
+// Perspective and orthographic maps as one (issue 52): w(z) is the depth measure that is linear
+// over (u, v) on a plane and in which the light's cone from a receiver at depth qz has, at depth
+// z, the radius k·(w(z) − w(qz)) texels (k = sm_k()). Perspective: w = 1/z and k the texels per
+// unit of 1/z at the light's radius (similar triangles through the light's centre). Orthographic
+// (a sun): w = −z and k = tan(half angle) / texel, the cone widening by tan of the half angle
+// per unit of depth (the contract's penumbra d · 2 · tan(angle / 2)).
+float sm_w(float z) { return p.ortho != 0u ? -z : 1.0 / z; }
+float sm_w_inv(float w) { return p.ortho != 0u ? -w : (w > 0.0 ? 1.0 / w : 1e30); }
+// The light's cone from depth qz at depth z, in units of w (0 behind the receiver).
+float sm_gap(float z, float qz) { return max(sm_w(z) - sm_w(qz), 0.0); }
+float sm_k() { return p.light_radius * float(p.map_h) / (2.0 * p.tan_y); }
+// A map texel's size in world units at depth z.
+float sm_texel_world(float z) { return 2.0 * (p.ortho != 0u ? 1.0 : z) * p.tan_y / float(p.map_h); }
+// The unit direction toward the light's centre from P (relative to the light); a sun's is its
+// axis (the map camera's +Z).
+vec3 sm_to_light(vec3 P) { return p.ortho != 0u ? vec3(p.l20, p.l21, p.l22) : -P; }
+// The distance from the receiver P (map depth qz) to a blocker at map depth zb along the ray to
+// the light's centre (L.occluder's measure).
+float sm_occluder_distance(vec3 P, float qz, float zb) { return p.ortho != 0u ? qz - zb : length(P) * (qz - zb) / qz; }
+
 vec3 sm_project(vec3 d) {
   float x = p.l00 * d.x + p.l01 * d.y + p.l02 * d.z + p.l03;
   float y = p.l10 * d.x + p.l11 * d.y + p.l12 * d.z + p.l13;
   float z = -(p.l20 * d.x + p.l21 * d.y + p.l22 * d.z + p.l23);
   if (z <= 1e-6) return vec3(-1.0, -1.0, -1.0);
-  return vec3((x / (z * p.tan_x) * 0.5 + 0.5) * float(p.map_w),
-              (0.5 - y / (z * p.tan_y) * 0.5) * float(p.map_h), z);
+  float sx = p.ortho != 0u ? p.tan_x : z * p.tan_x, sy = p.ortho != 0u ? p.tan_y : z * p.tan_y;
+  return vec3((x / sx * 0.5 + 0.5) * float(p.map_w), (0.5 - y / sy * 0.5) * float(p.map_h), z);
 }
 
 bool sm_inside(vec3 q) {
   return q.z > 0.0 && q.z <= p.far_clip && q.x >= 0.0 && q.y >= 0.0 && q.x < float(p.map_w) && q.y < float(p.map_h);
 }
 
-// Receiver plane: the gradient of 1/z over (u, v), from the screen neighbours on the same
+// Receiver plane: the gradient of w(z) (1/z; a sun's map: −z) over (u, v), from the screen neighbours on the same
 // surface (the one of each pair nearer in light depth); zero where there is none. z: the
 // smallest light-depth step to a neighbour, the receiver's own depth uncertainty (large where
 // P blends two surfaces at a silhouette), added to the bias. w: the slope bound (texel
@@ -88,7 +108,7 @@ vec4 sm_receiver_plane(uvec2 px, vec3 q, vec3 P, out bool back) {
       vec3 qn = sm_project(Pn);
       if (qn.z <= 0.0) continue;
       float dz = abs(qn.z - q.z);
-      vec3 dn = vec3(qn.xy - q.xy, 1.0 / qn.z - 1.0 / q.z);
+      vec3 dn = vec3(qn.xy - q.xy, sm_w(qn.z) - sm_w(q.z));
       if (dz < best) {
         if (best < 1e30) { other[axis] = bd; has_other[axis] = true; }
         best = dz; bd = dn; bt = Pn - P;
@@ -105,12 +125,12 @@ vec4 sm_receiver_plane(uvec2 px, vec3 q, vec3 P, out bool back) {
   {
     vec3 nrm = cross(t[0], t[1]);
     float ln = length(nrm);
-    if (ln > 0.0) sm_n = (dot(nrm, -P) < 0.0 ? -nrm : nrm) / ln;
+    if (ln > 0.0) sm_n = (dot(nrm, sm_to_light(P)) < 0.0 ? -nrm : nrm) / ln;
   }
   if (p.has_camera != 0u) {
     vec3 nrm = cross(t[0], t[1]);
     if (dot(nrm, vec3(p.eye_rel_x, p.eye_rel_y, p.eye_rel_z) - P) < 0.0) nrm = -nrm;
-    back = dot(nrm, -P) < 0.0;
+    back = dot(nrm, sm_to_light(P)) < 0.0;
   }
   float det = d[0].x * d[1].y - d[0].y * d[1].x;
   if (abs(det) < 1e-8) return vec4(0.0, 0.0, spread, p.slope_max);
@@ -134,9 +154,16 @@ vec4 sm_receiver_plane(uvec2 px, vec3 q, vec3 P, out bool back) {
 // at r = w − P from the receiver, gives it max(n·r, 0)·|n_l·r| / |r|⁴ (n_l: the disk facing the
 // receiver for a sphere light, the map's axis for a disk or rect light). A renderer's soft shadow
 // weighs the light's points so: under a low light its top lights a floor several times as much
-// as its bottom. 1 where the receiver's normal is unknown.
+// as its bottom. A sun's point u is the direction ω = axis + tan(half angle)·(u.x, −u.y) in the
+// map's frame, every one at the same radiance: it gives max(n·ω̂, 0), relative to n·axis. 1 where
+// the receiver's normal is unknown.
 float sm_irradiance(vec3 P, vec2 u) {
   if (sm_n == vec3(0.0)) return 1.0;
+  if (p.ortho != 0u) {
+    vec3 a = vec3(p.l20, p.l21, p.l22);
+    vec3 w = normalize(a + p.light_radius * (u.x * vec3(p.l00, p.l01, p.l02) - u.y * vec3(p.l10, p.l11, p.l12)));
+    return max(dot(sm_n, w), 0.0) / max(dot(sm_n, a), SHADOWMAP_MIN_CN);
+  }
   vec3 w = p.light_radius * (u.x * vec3(p.l00, p.l01, p.l02) - u.y * vec3(p.l10, p.l11, p.l12));
   vec3 r = w - P, nl = p.facing != 0u ? P : vec3(p.l20, p.l21, p.l22);
   float D2 = dot(P, P), q = D2 / dot(r, r);
@@ -148,22 +175,20 @@ float sm_irradiance(vec3 P, vec2 u) {
 // map depths below it are blockers.
 float sm_threshold(vec3 q, vec4 g, vec2 c, float texel_world) {
   vec2 o = c - q.xy;
-  float iz = 1.0 / q.z + dot(g.xy, o);
-  float zc = iz > 0.0 ? 1.0 / iz : 1e30;
+  float zc = sm_w_inv(sm_w(q.z) + dot(g.xy, o));
   float lim = g.w * texel_world * length(o);
   zc = clamp(zc, q.z - lim, q.z + lim);
   return zc - p.bias * texel_world - p.spread_bias * g.z;
 }
 
 // Bounds of the receiver's threshold (sm_threshold) over [lo, hi): the receiver plane's depth is
-// monotone along lines (1/z is linear), so its extremes are at the corners; the clamp to
+// monotone along lines (w(z) is linear), so its extremes are at the corners; the clamp to
 // q.z ± g.w·tw·|o| (the plane's slope bound) is bounded by the farthest corner.
 vec2 sm_threshold_range(vec3 q, vec4 g, vec2 lo, vec2 hi, float tw) {
   float zmin = 1e30, zmax = -1e30, far = 0.0;
   for (int k = 0; k < 4; ++k) {
     vec2 o = vec2((k & 1) != 0 ? hi.x : lo.x, (k & 2) != 0 ? hi.y : lo.y) - q.xy;
-    float iz = 1.0 / q.z + dot(g.xy, o);
-    float zc = iz > 0.0 ? 1.0 / iz : 1e30;
+    float zc = sm_w_inv(sm_w(q.z) + dot(g.xy, o));
     zmin = min(zmin, zc);
     zmax = max(zmax, zc);
     far = max(far, length(o));
@@ -172,10 +197,10 @@ vec2 sm_threshold_range(vec3 q, vec4 g, vec2 lo, vec2 hi, float tw) {
   return vec2(max(q.z - lim, min(zmin, q.z)), min(q.z + lim, max(q.z, zmax))) - b;
 }
 // Whether the light's cone from the receiver reaches texel centre c at map depth zm (issue 19):
-// kr is shadows.reach times k, the texels per unit of 1/z at the light's radius; 0: always.
+// kr is shadows.reach times k (sm_k); 0: always.
 bool sm_reaches(vec3 q, vec2 c, float zm, float kr) {
   if (kr <= 0.0) return true;
-  float r = kr * max(1.0 / zm - 1.0 / q.z, 0.0) + SHADOWMAP_REACH_MARGIN;
+  float r = kr * sm_gap(zm, q.z) + SHADOWMAP_REACH_MARGIN;
   vec2 o = c - q.xy;
   return dot(o, o) <= r * r;
 }
@@ -184,7 +209,7 @@ bool sm_reaches(vec3 q, vec2 c, float zm, float kr) {
 // region is the cone at the map's nearest depth (PCSS), a narrowed one's at the mean blocker
 // depth (issue 19).
 float sm_cone_radius(float k, float z, float qz, float margin) {
-  return min(margin * k * max(1.0 / z - 1.0 / qz, 0.0), p.max_radius);
+  return min(margin * k * sm_gap(z, qz), p.max_radius);
 }
 // The narrowed blocker search's box (vssm's and cssm's): the half-width of the square of the
 // cone's area, at least a texel wide.

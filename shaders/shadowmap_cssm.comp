@@ -215,8 +215,8 @@ void main() {
   bool back;
   vec4 g = sm_receiver_plane(px, q, P, back);
   if (back) { sm_count(SHADOWMAP_STAT_SKIPPED); soft[i] = hard[i]; return; }
-  float texel_world = 2.0 * q.z * p.tan_y / float(p.map_h);
-  float k = p.light_radius * float(p.map_h) / (2.0 * p.tan_y);  // texels per unit of 1/d − 1/z
+  float texel_world = sm_texel_world(q.z);
+  float k = sm_k();  // texels per unit of w(d) − w(z) (1/d − 1/z; a sun: z − d)
   // Receiver depth d: the biased receiver-plane threshold at its own texel centre, normalised.
   vec2 cc = floor(q.xy) + 0.5;
   float d = clamp((sm_threshold(q, g, cc, texel_world) - c.zmin) / c.zrange, 0.0, 1.0);
@@ -276,8 +276,8 @@ void main() {
       step = 0u;
       continue;
     }
-    // Penumbra width (§5.3.1): rf = k (1/z_avg − 1/d).
-    rf = k * max(1.0 / zb - 1.0 / q.z, 0.0);
+    // Penumbra width (§5.3.1): rf = k (1/z_avg − 1/d) (a sun: k (d − z_avg)).
+    rf = k * sm_gap(zb, q.z);
     if (rf > p.max_radius) { rf = p.max_radius; sm_count(SHADOWMAP_STAT_CLAMPED); }
     h = max(SM_BOX_OF_DISK * rf, 0.5);
     step = 2u;
@@ -288,6 +288,6 @@ void main() {
   // (cssm.cpp): the expansion cannot place the penumbrae such blockers cast, so the input's edge
   // stands up to the radius of one at that depth (issue 19).
   float zh = c.zmin + max(d - c.x0 / c.s_z, 0.0) * c.zrange;
-  float r_half = min(k * max(1.0 / zh - 1.0 / q.z, 0.0), p.max_radius);
+  float r_half = min(k * sm_gap(zh, q.z), p.max_radius);
   soft[i] = sm_input_edges_at(pow(v, pw), hard[i], rf, r_half);
 }

@@ -32,7 +32,7 @@ void main() {
     vec4 g = vec4(0.0, 0.0, 0.0, p.slope_max);
     if (sm_inside(q)) g = sm_receiver_plane(px, q, P, back);
     if (sm_inside(q) && !back) {
-      float texel_world = 2.0 * q.z * p.tan_y / float(p.map_h);
+      float texel_world = sm_texel_world(q.z);
       vec2 c0 = floor(q.xy) + 0.5;
       lit = sm_fetch(c0) >= sm_threshold(q, g, c0, texel_world) ? 1.0 : 0.0;
       float zb = -1.0;
@@ -43,7 +43,7 @@ void main() {
           float zm = sm_fetch(c);
           if (zm < sm_threshold(q, g, c, texel_world)) zb = max(zb, zm);
         }
-      if (zb > 0.0) d_occ = length(P) * (q.z - zb) / q.z;
+      if (zb > 0.0) d_occ = sm_occluder_distance(P, q.z, zb);
     }
   }
   if (pc.write_shadow != 0u) shadow[i] = lit;

@@ -31,10 +31,12 @@ struct ShadowmapParams {
   uint width, height, map_w, map_h;
   uint has_position, taps, rotate, has_camera;
   // Light view: world_to_light rows 0-2 (row-major 3x4) applied to P − light (the light's
-  // centre below), so the translation column is what is left of it; tan of the half fields of view.
+  // centre below), so the translation column is what is left of it; tan of the half fields of
+  // view, or (ortho) the map's half extents in world units.
   float l00, l01, l02, l03, l10, l11, l12, l13, l20, l21, l22, l23;
   float tan_x, tan_y;
-  // Light radius (world), nearest blocker depth in the map (bounds the blocker search).
+  // Light radius (world; ortho: tan of the sun's half angle, its radius per unit of distance),
+  // nearest blocker depth in the map (bounds the blocker search).
   float light_radius, min_depth;
   // Largest kernel radius (texels); constant depth bias in receiver texel footprints;
   // the receiver-plane (slope) bias is clamped to slope_max receiver texel footprints;
@@ -59,6 +61,8 @@ struct ShadowmapParams {
   uint facing;  // 1: a sphere light, its disk facing the receiver; 0: a disk or rect light in the
                 // map's plane (sm_irradiance's emitter cosine)
   uint pcss_narrow;  // shadows.pcss_narrow: pcss's narrowed blocker searches
+  uint ortho;  // 1: a sun's orthographic map (contract input 3): planar depth is linear over the
+               // map on a plane, a cone's radius grows with depth (shadowmap_common.h's sm_w)
 };
 // A pcss narrowed blocker search's radius over the light's cone at the mean blocker depth
 // (shadowmap_pcss.comp).

@@ -61,8 +61,8 @@ void main() {
   bool back;
   vec4 g = sm_receiver_plane(px, q, P, back);
   if (back) { sm_count(SHADOWMAP_STAT_SKIPPED); soft[i] = texelFetch(hard, int(i)).r; return; }
-  float texel_world = 2.0 * q.z * p.tan_y / float(p.map_h);
-  float k = p.light_radius * float(p.map_h) / (2.0 * p.tan_y);  // texels per unit of 1/d − 1/z
+  float texel_world = sm_texel_world(q.z);
+  float k = sm_k();  // texels per unit of w(d) − w(z) (1/d − 1/z; a sun: z − d)
   float a = 0.0;
   if (p.rotate != 0u) a = isg_pixel_angle(px + uvec2(p.origin & 0xffffu, p.origin >> 16));
   mat2 rot = mat2(cos(a), sin(a), -sin(a), cos(a));
@@ -81,7 +81,7 @@ void main() {
     soft[i] = sm_input_edges(1.0, texelFetch(hard, int(i)).r, 0.0);
     return;
   }
-  float rf = k * max(1.0 / db - 1.0 / q.z, 0.0);
+  float rf = k * sm_gap(db, q.z);
   if (rf > p.max_radius) { rf = p.max_radius; sm_count(SHADOWMAP_STAT_CLAMPED); }
   float lit = 0.0, all = 0.0;
   for (uint t = 0u; t < p.taps; ++t) {

@@ -257,8 +257,8 @@ void main() {
   // SATs and the HSM) is shaded as lying on it: else the background would block it (vssm.cpp).
   float h_in = texelFetch(hard, int(i)).r;
   q.z = min(q.z, v.hsm.far_z);
-  float tw = 2.0 * q.z * p.tan_y / float(p.map_h);
-  float k = p.light_radius * float(p.map_h) / (2.0 * p.tan_y);
+  float tw = sm_texel_world(q.z);
+  float k = sm_k();
   float rs = sm_cone_radius(k, p.min_depth, q.z, 1.0);
   vec2 a, b;
   square(q, rs, a, b);
@@ -286,7 +286,7 @@ void main() {
     hs = hn;
   }
   if (!found) { sm_count(SHADOWMAP_STAT_SKIPPED); soft[i] = sm_input_edges(1.0, h_in, 0.0); return; }
-  float rf = k * max(1.0 / zavg - 1.0 / q.z, 0.0);
+  float rf = k * sm_gap(zavg, q.z);
   if (rf > p.max_radius) { rf = p.max_radius; sm_count(SHADOWMAP_STAT_CLAMPED); }
   // The square kernel of the light disk's area (half-width √π/2 · r; a rect light's
   // area-equivalent disk).

@@ -78,8 +78,51 @@ const char* to_string(LightType t) {
     case LightType::disk: return "disk";
     case LightType::rect: return "rect";
     case LightType::point: return "point";
+    case LightType::spot: return "spot";
+    case LightType::sun: return "sun";
   }
   return "?";
+}
+
+std::string describe(const Light& l) {
+  std::ostringstream o;
+  o.precision(4);
+  auto vec = [&](const Vec3& v) { o << "(" << v[0] << ", " << v[1] << ", " << v[2] << ")"; };
+  o << to_string(l.type) << ": ";
+  switch (l.type) {
+    case LightType::sun:
+      o << l.angle_deg << " deg disk toward ";
+      vec(l.direction);
+      break;
+    case LightType::spot:
+      o << "disk of radius " << l.radius << " at ";
+      vec(l.position);
+      o << " shining along ";
+      vec(l.normal);
+      o << ", cone " << l.spot_angle_deg << " deg, blend " << l.spot_blend;
+      break;
+    case LightType::rect:
+      o << l.size[0] << " x " << l.size[1] << " at ";
+      vec(l.position);
+      break;
+    case LightType::point:
+      o << "at ";
+      vec(l.position);
+      break;
+    default:
+      o << "radius " << l.radius << " at ";
+      vec(l.position);
+  }
+  if (l.shadowmap) {
+    const ShadowMap& m = *l.shadowmap;
+    o << "; " << m.projection << " map ";
+    if (m.orthographic()) o << m.width_m << " x " << m.height_m << " m, ";
+    else o << m.yfov_deg << " deg, ";
+    o << m.width << "x" << m.height;
+  } else {
+    o << "; no shadow map";
+  }
+  return o.str();
 }
 
 const Light* Scene::light(const std::string& name) const {
@@ -209,51 +252,85 @@ Camera read_camera(Reader r) {
   return c;
 }
 
+ShadowMap read_shadowmap(Reader s, const fs::path& scene_dir, bool distant) {
+  ShadowMap m;
+  m.file = s.string("file");
+  if (m.file.is_relative()) m.file = scene_dir / m.file;
+  m.world_to_light = s.matrix("world_to_light");
+  m.projection = s.string("projection", {"perspective", "orthographic"});
+  // A sun's map is orthographic (its rays are parallel); a light with a position is seen from it.
+  if (distant && !m.orthographic()) s.fail("projection", "a sun's shadow map must be orthographic");
+  if (!distant && m.orthographic())
+    s.fail("projection", "'orthographic' is for a sun's map; a light with a position has a perspective one");
+  if (m.orthographic()) {
+    m.width_m = s.number("width_m", 0.0, 1e30, true);
+    m.height_m = s.number("height_m", 0.0, 1e30, true);
+    m.near_clip = s.number_or("near", 0.0, -1e30, 1e30);
+    m.far_clip = s.number("far", -1e30, 1e30);
+  } else {
+    m.yfov_deg = s.number("yfov_deg", 0.0, 179.0, true);
+    m.near_clip = s.number("near", 0.0, 1e30, true);
+    m.far_clip = s.number("far", 0.0, 1e30, true);
+  }
+  if (m.far_clip <= m.near_clip) s.fail("far", "must be greater than near");
+  m.width = s.integer("width", 1, 1 << 16);
+  m.height = s.integer("height", 1, 1 << 16);
+  s.finish();
+  return m;
+}
+
 Light read_light(Reader r, const fs::path& scene_dir) {
   Light l;
   l.name = r.string("name");
   if (l.name.empty() || l.name.find_first_of(". \t") != std::string::npos) {
     r.fail("name", "'" + l.name + "' must be non-empty with no dots or spaces (it prefixes channel names)");
   }
-  std::string t = r.string("type", {"sphere", "disk", "rect", "point"});
-  l.type = t == "sphere" ? LightType::sphere : t == "disk" ? LightType::disk
-         : t == "rect"   ? LightType::rect   : LightType::point;
-  l.position = r.vec3("position");
-  if (l.type == LightType::sphere || l.type == LightType::disk) {
-    l.radius = r.number("radius", 0.0, 1e30, true);
-  } else if (r.has("radius")) {
-    l.radius = r.number("radius", 0.0, 1e30);
-  }
-  if (l.type == LightType::disk || l.type == LightType::rect) {
-    l.normal = r.unit3("normal");
-  } else if (r.has("normal")) {
-    l.normal = r.unit3("normal");
-  }
-  if (l.type == LightType::rect) {
-    auto s = r.numbers("size", 2);
-    if (!(s[0] > 0 && s[1] > 0)) r.fail("size", "both extents must be > 0");
-    l.size = {s[0], s[1]};
-    l.u_axis = r.unit3("u_axis");
+  std::string t = r.string("type", {"sphere", "disk", "rect", "point", "spot", "sun"});
+  for (LightType k : {LightType::sphere, LightType::disk, LightType::rect, LightType::point,
+                      LightType::spot, LightType::sun})
+    if (t == to_string(k)) l.type = k;
+  if (l.distant()) {
+    // A sun is distant: a direction and the angle of its disk, and nothing placed in the scene.
+    if (r.has("position")) r.fail("position", "a sun has no position (it is distant): give its direction");
+    for (const char* k : {"radius", "normal", "size", "u_axis", "spot_angle_deg", "spot_blend"})
+      if (r.has(k)) r.fail(k, std::string("is not a sun's key (a sun has direction and angle_deg)"));
+    l.direction = r.unit3("direction");
+    l.angle_deg = r.number("angle_deg", 0.0, 90.0, true);
+    if (l.angle_deg >= 90.0) r.fail("angle_deg", "must be below 90 degrees (the full angle of the sun's disk)");
   } else {
-    if (r.has("size")) r.numbers("size", 2);
-    if (r.has("u_axis")) r.unit3("u_axis");
+    l.position = r.vec3("position");
+    const bool round = l.type == LightType::sphere || l.type == LightType::disk || l.type == LightType::spot;
+    if (round) {
+      l.radius = r.number("radius", 0.0, 1e30, true);
+    } else if (r.has("radius")) {
+      l.radius = r.number("radius", 0.0, 1e30);
+    }
+    if (l.type == LightType::disk || l.type == LightType::rect || l.type == LightType::spot) {
+      l.normal = r.unit3("normal");
+    } else if (r.has("normal")) {
+      l.normal = r.unit3("normal");
+    }
+    if (l.type == LightType::rect) {
+      auto s = r.numbers("size", 2);
+      if (!(s[0] > 0 && s[1] > 0)) r.fail("size", "both extents must be > 0");
+      l.size = {s[0], s[1]};
+      l.u_axis = r.unit3("u_axis");
+    } else {
+      if (r.has("size")) r.numbers("size", 2);
+      if (r.has("u_axis")) r.unit3("u_axis");
+    }
+    if (l.type == LightType::spot) {
+      // Blender's spot size and blend (its defaults where absent).
+      l.spot_angle_deg = r.number_or("spot_angle_deg", 45.0, 0.0, 180.0, true);
+      l.spot_blend = r.number_or("spot_blend", 0.15, 0.0, 1.0);
+    } else {
+      for (const char* k : {"spot_angle_deg", "spot_blend"})
+        if (r.has(k)) r.fail(k, std::string("is only a spot light's key"));
+    }
+    for (const char* k : {"direction", "angle_deg"})
+      if (r.has(k)) r.fail(k, std::string("is only a sun's key"));
   }
-  if (r.has("shadowmap")) {
-    Reader s = r.child("shadowmap");
-    ShadowMap m;
-    m.file = s.string("file");
-    if (m.file.is_relative()) m.file = scene_dir / m.file;
-    m.world_to_light = s.matrix("world_to_light");
-    m.projection = s.string("projection", {"perspective"});
-    m.yfov_deg = s.number("yfov_deg", 0.0, 179.0, true);
-    m.near_clip = s.number("near", 0.0, 1e30, true);
-    m.far_clip = s.number("far", 0.0, 1e30, true);
-    if (m.far_clip <= m.near_clip) s.fail("far", "must be greater than near");
-    m.width = s.integer("width", 1, 1 << 16);
-    m.height = s.integer("height", 1, 1 << 16);
-    s.finish();
-    l.shadowmap = m;
-  }
+  if (r.has("shadowmap")) l.shadowmap = read_shadowmap(r.child("shadowmap"), scene_dir, l.distant());
   r.finish();
   return l;
 }

@@ -35,27 +35,40 @@ struct Camera {
   double pixel_size_at(double z) const;
 };
 
+// A light's shadow map (contract input 2). Perspective: yfov_deg; orthographic (a sun's): the
+// map covers width_m x height_m scene units centred on the view axis. Either way Z is planar
+// depth along the axis (the light's -Z).
 struct ShadowMap {
   std::filesystem::path file;
   Mat4 world_to_light = identity4();
-  std::string projection = "perspective";
+  std::string projection = "perspective";  // perspective | orthographic
   double yfov_deg = 90.0, near_clip = 0.05, far_clip = 100.0;
+  double width_m = 0.0, height_m = 0.0;    // orthographic
   int width = 0, height = 0;
+  bool orthographic() const { return projection == "orthographic"; }
 };
 
-enum class LightType { sphere, disk, rect, point };
+enum class LightType { sphere, disk, rect, point, spot, sun };
 const char* to_string(LightType t);
 
 struct Light {
   std::string name;
   LightType type = LightType::point;
-  Vec3 position{0, 0, 0};
-  double radius = 0.0;
-  Vec3 normal{0, 0, -1};
+  Vec3 position{0, 0, 0};   // every light but a sun
+  double radius = 0.0;      // sphere, disk, spot
+  Vec3 normal{0, 0, -1};    // disk, rect; a spot's axis (the way it shines)
   std::array<double, 2> size{0, 0};
   Vec3 u_axis{1, 0, 0};
+  double spot_angle_deg = 180.0, spot_blend = 0.0;  // spot: the cone (shapes L.direct only)
+  Vec3 direction{0, 0, 1};  // sun: unit vector from the scene toward it
+  double angle_deg = 0.0;   // sun: the full angle its disk subtends, (0, 90)
   std::optional<ShadowMap> shadowmap;
+  bool distant() const { return type == LightType::sun; }
 };
+
+// One line on a light for `isg info`: its kind, size and shadow map, e.g. "sun: 2° disk toward
+// (0, 0.6, 0.8); orthographic map 40 x 30 m, 2048x1536".
+std::string describe(const Light& l);
 
 struct Scene {
   std::filesystem::path path;

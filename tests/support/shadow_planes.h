@@ -8,6 +8,7 @@
 #include <string>
 #include <vector>
 
+#include "effects/shadowmaps/derive.h"
 #include "effects/shadowmaps/shadowmap.h"
 #include "gpu/gpu.h"
 #include "synth.h"
@@ -21,29 +22,40 @@ inline constexpr double kPi = 3.14159265358979323846;
 // The light at the origin looking down -Z (world_to_light = identity), 90° map. An occluder
 // half-plane x < edge·d_o at depth d_o (none where d_o <= 0); the receiver z = -(z_r + slope·x)
 // (slope 0: parallel planes).
+//
+// ortho: a sun overhead instead (contract input 3): the map orthographic, `extent` across, the
+// occluder's edge at x = edge (world), R the tan of the sun's half angle; every ray to it is
+// parallel to the axis. Parallel planes only (slope 0).
 struct Planes {
   double d_o = 2.0, z_r = 4.0, slope = 0.0, R = 0.2;
-  double edge = 0.0;  // the occluder's edge, x/z (tan) from the light
+  double edge = 0.0;  // the occluder's edge, x/z (tan) from the light (ortho: x, world)
   double far = 1e3;  // the receiver plane ends at this depth (a sloped one; background beyond)
   int map = 256, w = 96, h = 96;
+  bool ortho = false;
+  double extent = 2.0;  // ortho: the map's width and height, world units
   fx::ShadowmapData shadowmap() const {
     std::vector<float> z(size_t(map) * map);
     for (int j = 0; j < map; ++j)
       for (int i = 0; i < map; ++i) {
+        if (ortho) {  // the texel centre's x, world
+          const double x = ((i + 0.5) / map - 0.5) * extent;
+          z[size_t(j) * map + i] = float(x < edge && d_o > 0.0 ? d_o : z_r);
+          continue;
+        }
         double a = 2.0 * (i + 0.5) / map - 1.0;  // x/z at the texel centre (tan 45° = 1)
         // The receiver's depth along that ray: z = z_r + slope·a·z; rays that miss it see
         // background (1e30, as a renderer writes it).
         double den = 1.0 - slope * a;
         z[size_t(j) * map + i] = float(a < edge && d_o > 0.0 ? d_o : (den > z_r / far ? z_r / den : 1e30));
       }
-    return fx::make_shadowmap(map, map, std::move(z));
+    return fx::make_shadowmap(map, map, std::move(z), ortho);
   }
   // The same map with texels [x0, x1) x [y0, y1) set to depth d (an extra blocker).
   fx::ShadowmapData shadowmap_with(int x0, int x1, int y0, int y1, float d) const {
     auto z = shadowmap().z;
     for (int j = y0; j < y1; ++j)
       for (int i = x0; i < x1; ++i) z[size_t(j) * size_t(map) + size_t(i)] = d;
-    return fx::make_shadowmap(map, map, std::move(z));
+    return fx::make_shadowmap(map, map, std::move(z), ortho);
   }
   // Receivers on a grid x, y ∈ [-1, 1] (as P); L.shadow the renderer's hard verdict, the ray
   // from the light's centre (the origin) to the receiver: blocked where it crosses depth d_o at
@@ -63,14 +75,18 @@ struct Planes {
         in.position[i] = float(px);
         in.position[n + i] = float(py);
         in.position[2 * n + i] = float(-(z_r + slope * px));
-        if (d_o > 0.0 && d_o < z_r + slope * px && px / (z_r + slope * px) < edge) in.hard[i] = 0.0f;
+        const bool behind = ortho ? px < edge : px / (z_r + slope * px) < edge;
+        if (d_o > 0.0 && d_o < z_r + slope * px && behind) in.hard[i] = 0.0f;
       }
     return in;
   }
   // Receiver i at (x, y, −z) on its plane: the line from it through the edge meets the light's
   // plane z = 0 at x = c; the light points beyond (x > c) are the ones it sees.
+  // ortho: the directions to the sun past the edge, in tan of their angle from the axis (a ray
+  // at tan t along x crosses the occluder's depth at x + t·(z − d_o)).
   double chord(double x) const {
     const double z = z_r + slope * x;
+    if (ortho) return (edge - x) / (z - d_o);
     return (edge * z - x) * d_o / (z - d_o);
   }
   // Closed form: the part of the light's disk (radius R) seen past the edge, as its share of
@@ -81,6 +97,9 @@ struct Planes {
     const double x = in.position[i], c = chord(x), ns = std::sqrt(1.0 + slope * slope);
     if (c >= R) return 0.0;
     if (c <= -R) return 1.0;
+    // A sun: its disk in tan space (the cone of directions within its half angle; the receiver
+    // faces the axis, so n·ω varies by under R²/2 over it: uniform).
+    if (ortho) return isg::synth::disk_visible_fraction(c, R);
     return isg::synth::disk_irradiance_beyond_chord({x, double(in.position[n + i]), -(z_r + slope * x)},
                                                     {slope / ns, 0.0, 1.0 / ns}, {0, 0, 0}, {1, 0, 0}, {0, 1, 0}, R, c);
   }
@@ -93,6 +112,8 @@ struct Planes {
     fx::ShadowmapSettings s;
     s.method = method;
     s.yfov_deg = 90.0;
+    s.ortho = ortho;
+    s.width_m = s.height_m = extent;
     s.light_radius = R;
     s.facing = false;  // a disk light in the map's plane, as the closed form has it
     s.taps = taps;
@@ -121,6 +142,19 @@ inline std::vector<float> run_gpu(gpu::Context& ctx, const fx::ShadowmapInputs& 
   seq.submit();
   if (stats) *stats = pass.stats();
   return soft.download_as<float>(in.fg.size());
+}
+
+// Pass shadows.derive on the GPU (L.shadow and L.occluder from the map), P given.
+inline fx::DerivedShadow run_derive_gpu(gpu::Context& ctx, const fx::ShadowmapInputs& in,
+                                        const fx::ShadowmapData& map, const fx::ShadowmapSettings& s) {
+  const size_t n = in.fg.size();
+  auto geo = upload(ctx, in.position, "geo"), fg = upload(ctx, in.fg, "fg"), mb = upload(ctx, map.z, "map");
+  gpu::Buffer shadow(ctx, n * sizeof(float), "shadow"), occ(ctx, n * sizeof(float), "occluder");
+  fx::ShadowmapDerivePass pass(ctx, s, map, uint32_t(in.w), uint32_t(in.h), true);
+  gpu::Sequence seq(ctx);
+  pass.record(seq, geo, fg, mb, shadow, true, occ, "shadows.derive");
+  seq.submit();
+  return {shadow.download_as<float>(n), occ.download_as<float>(n)};
 }
 
 // Pixels where GPU and reference differ by more than 1e-3 (a tap landing in the other texel

@@ -328,9 +328,9 @@ std::vector<float> cssm_reference(const ShadowmapInputs& in, const ShadowmapData
   const detail::HsmRef hsm(map, hsm_levels);
   const int M = u.M;
   ShadowmapStats st;
-  const double k = s.light_radius * map.height / (2.0 * G.tan_y);
+  const double k = G.k();
   auto out = detail::shade_receivers(G, st, [&](int, int, const V3& q, const Plane& g, const V3&, const V3&) -> Shaded {
-    const double texel_world = 2.0 * q[2] * G.tan_y / map.height;
+    const double texel_world = G.texel_world(q[2]);
     const double cx = std::floor(q[0]) + 0.5, cy = std::floor(q[1]) + 0.5;
     const double d =
         std::clamp((G.threshold(q, g, cx, cy, texel_world) - u.zmin) / u.zrange, 0.0, 1.0);
@@ -383,14 +383,14 @@ std::vector<float> cssm_reference(const ShadowmapInputs& in, const ShadowmapData
     // the file).
     {
       const V3 qv = {q[0], q[1], std::min(q[2], hsm_levels.far_z)};
-      const double hb = Geom::cone_box(k, map.min_depth, q[2], 1.0, s.max_radius);
+      const double hb = G.cone_box(k, map.min_depth, q[2], 1.0, s.max_radius);
       V2 lo = {std::max(q[0] - hb, 0.0), std::max(q[1] - hb, 0.0)};
       V2 hi = {std::min(q[0] + hb, double(map.width)), std::min(q[1] + hb, double(map.height))};
       if (hsm.range(lo, hi)[0] >= G.threshold_range(qv, g, lo, hi, texel_world)[1]) {
         ++st.skipped;
         return {1.0, 0.0};
       }
-      const double rs = std::max(Geom::cone_radius(k, map.min_depth, qv[2], 1.0, s.max_radius), 0.5);
+      const double rs = std::max(G.cone_radius(k, map.min_depth, qv[2], 1.0, s.max_radius), 0.5);
       lo = {std::max(q[0] - rs, 0.0), std::max(q[1] - rs, 0.0)};
       hi = {std::min(q[0] + rs, double(map.width)), std::min(q[1] + rs, double(map.height))};
       if (hsm.range(lo, hi)[1] < G.threshold_range(qv, g, lo, hi, texel_world)[0]) {
@@ -399,7 +399,7 @@ std::vector<float> cssm_reference(const ShadowmapInputs& in, const ShadowmapData
       }
     }
     // Blocker search (Fig. 5.1a): the PCSS region as a box of the same area.
-    double hs = Geom::cone_box(k, map.min_depth, q[2], 1.0, s.max_radius);
+    double hs = G.cone_box(k, map.min_depth, q[2], 1.0, s.max_radius);
     const double sf = visibility(hs);
     if (suppress(u, sf) >= 1.0 || 1.0 - sf < kMinBlockers) {
       ++st.skipped;  // no blockers: fully lit
@@ -410,7 +410,7 @@ std::vector<float> cssm_reference(const ShadowmapInputs& in, const ShadowmapData
     double zb = u.zmin + z_avg * u.zrange;
     // The search narrowed to the blockers' cone (see the top of the file), while it shrinks.
     for (int pass = 0; pass < u.narrow; ++pass) {
-      const double hn = Geom::cone_box(k, zb, q[2], CSSM_NARROW_MARGIN, s.max_radius);
+      const double hn = G.cone_box(k, zb, q[2], CSSM_NARROW_MARGIN, s.max_radius);
       if (hn >= hs) break;
       const double sn = visibility(hn);
       if (suppress(u, sn) >= 1.0 || 1.0 - sn < kMinBlockers) {
@@ -422,7 +422,7 @@ std::vector<float> cssm_reference(const ShadowmapInputs& in, const ShadowmapData
       hs = hn;
     }
     // Penumbra width (§5.3.1): rf = k (1/z_avg − 1/d), in texels.
-    double rf = k * std::max(1.0 / zb - 1.0 / q[2], 0.0);
+    double rf = k * G.gap(zb, q[2]);
     if (rf > s.max_radius) {
       rf = s.max_radius;
       ++st.clamped;
@@ -432,7 +432,7 @@ std::vector<float> cssm_reference(const ShadowmapInputs& in, const ShadowmapData
     // Blockers within x0 / s_z of the receiver shadow it by under half (the top of the file):
     // input_edges keeps the input's edge up to the radius one there casts (issue 19).
     const double zh = u.zmin + std::max(d - u.x0 / u.s_z, 0.0) * u.zrange;
-    const double r_half = std::min(k * std::max(1.0 / zh - 1.0 / q[2], 0.0), s.max_radius);
+    const double r_half = std::min(k * G.gap(zh, q[2]), s.max_radius);
     return {std::pow(v, p), rf, r_half};
   });
   if (stats) *stats = st;

@@ -31,8 +31,9 @@ struct Geom {
   size_t n;
   Geom(const ShadowmapInputs& i, const ShadowmapData& m, const ShadowmapSettings& st)
       : in(i), map(m), s(st) {
-    tan_y = std::tan(s.yfov_deg * kPi / 360.0);
-    tan_x = tan_y * double(m.width) / double(m.height);
+    // Perspective: tan of the half fields of view; orthographic (a sun): the half extents.
+    tan_y = s.ortho ? 0.5 * s.height_m : std::tan(s.yfov_deg * kPi / 360.0);
+    tan_x = s.ortho ? 0.5 * s.width_m : tan_y * double(m.width) / double(m.height);
     n = size_t(in.w) * size_t(in.h);
     const io::Mat4 inv = io::inverse(s.world_to_light);
     light_pos = {inv[3], inv[7], inv[11]};
@@ -40,6 +41,20 @@ struct Geom {
   }
   V3 light_pos{0, 0, 0};
   double eps = 0;
+  // shadowmap_common.h's sm_w, sm_w_inv, sm_gap, sm_k, sm_texel_world: w(z) is linear over the
+  // map on a plane (1/z; a sun's orthographic map: −z) and the light's cone from depth qz has the
+  // radius k·(w(z) − w(qz)) texels at depth z.
+  double w(double z) const { return s.ortho ? -z : 1.0 / z; }
+  double w_inv(double v) const { return s.ortho ? -v : (v > 0 ? 1.0 / v : 1e30); }
+  double gap(double z, double qz) const { return std::max(w(z) - w(qz), 0.0); }
+  double k() const { return s.light_radius * map.height / (2.0 * tan_y); }
+  double texel_world(double z) const { return 2.0 * (s.ortho ? 1.0 : z) * tan_y / map.height; }
+  // The direction toward the light's centre from P (world): a sun's is its axis (sm_to_light).
+  V3 to_light(const V3& P) const {
+    const auto& m = s.world_to_light;
+    if (s.ortho) return {m[8], m[9], m[10]};
+    return {light_pos[0] - P[0], light_pos[1] - P[1], light_pos[2] - P[2]};
+  }
   // The float32 spacing of pixel i's input (sm_input_step): of P's largest component, else of Z.
   double input_step(size_t i) const {
     const float m = !in.position.empty()
@@ -57,7 +72,8 @@ struct Geom {
     double y = m[4] * P[0] + m[5] * P[1] + m[6] * P[2] + m[7];
     double z = -(m[8] * P[0] + m[9] * P[1] + m[10] * P[2] + m[11]);
     if (z <= 1e-6) return {-1, -1, -1};
-    return {(x / (z * tan_x) * 0.5 + 0.5) * map.width, (0.5 - y / (z * tan_y) * 0.5) * map.height, z};
+    const double sx = s.ortho ? tan_x : z * tan_x, sy = s.ortho ? tan_y : z * tan_y;
+    return {(x / sx * 0.5 + 0.5) * map.width, (0.5 - y / sy * 0.5) * map.height, z};
   }
   bool inside(const V3& q) const {
     return q[2] > 0 && q[2] <= double(float(std::min(s.far_clip, 1e30))) && q[0] >= 0 && q[1] >= 0 && q[0] < map.width && q[1] < map.height;
@@ -82,7 +98,7 @@ struct Geom {
         V3 qn = project(Pn);
         if (qn[2] <= 0) continue;
         double dz = std::abs(qn[2] - q[2]);
-        const V3 dn = {qn[0] - q[0], qn[1] - q[1], 1.0 / qn[2] - 1.0 / q[2]};
+        const V3 dn = {qn[0] - q[0], qn[1] - q[1], w(qn[2]) - w(q[2])};
         if (dz < best) {
           if (best < 1e30) other[size_t(axis)] = bd, has_other[size_t(axis)] = true;
           best = dz;
@@ -100,9 +116,10 @@ struct Geom {
     if (found < 2) return {0, 0, spread, s.slope_max};
     const V3 nr = {t[0][1] * t[1][2] - t[0][2] * t[1][1], t[0][2] * t[1][0] - t[0][0] * t[1][2],
                    t[0][0] * t[1][1] - t[0][1] * t[1][0]};
+    const V3 tl_dir = to_light(P);
+    const double tl = nr[0] * tl_dir[0] + nr[1] * tl_dir[1] + nr[2] * tl_dir[2];
     if (normal) {  // unit, on the light's side
       const double ln = std::sqrt(nr[0] * nr[0] + nr[1] * nr[1] + nr[2] * nr[2]);
-      const double tl = nr[0] * (light_pos[0] - P[0]) + nr[1] * (light_pos[1] - P[1]) + nr[2] * (light_pos[2] - P[2]);
       if (ln > 0) {
         const double k = (tl < 0 ? -1.0 : 1.0) / ln;
         *normal = {nr[0] * k, nr[1] * k, nr[2] * k};
@@ -113,7 +130,7 @@ struct Geom {
         return nr[0] * (X[0] - P[0]) + nr[1] * (X[1] - P[1]) + nr[2] * (X[2] - P[2]);
       };
       double se = dot_to(s.eye) < 0 ? -1.0 : 1.0;
-      back = se * dot_to(light_pos) < 0;
+      back = se * tl < 0;
     }
     double det = d[0][0] * d[1][1] - d[0][1] * d[1][0];
     if (std::abs(det) < 1e-8) return {0, 0, spread, s.slope_max};
@@ -135,10 +152,20 @@ struct Geom {
   // (sm_irradiance): the tap at unit offset (ux, uy) of the filter's disk (texel axes, v down)
   // stands for the light point w = L·(ux, −uy) in the light's frame; at r = w − (P − light) it
   // gives max(n·r, 0)·|n_l·r| / |r|⁴ (n_l: the disk facing the receiver for a sphere light, the
-  // map's axis for a disk or rect light). 1 where the normal n is unknown.
+  // map's axis for a disk or rect light). A sun's tap is the direction ω = axis + tan(half
+  // angle)·(ux, −uy) in the map's frame: max(n·ω̂, 0) relative to n·axis. 1 where the normal n is
+  // unknown.
   double irradiance(const V3& P, const V3& nrm, double ux, double uy) const {
     if (nrm[0] == 0 && nrm[1] == 0 && nrm[2] == 0) return 1.0;
     const auto& m = s.world_to_light;
+    if (s.ortho) {
+      V3 o;
+      for (int k = 0; k < 3; ++k)
+        o[size_t(k)] = m[size_t(8 + k)] + s.light_radius * (ux * m[size_t(k)] - uy * m[size_t(4 + k)]);
+      const double lo = std::sqrt(o[0] * o[0] + o[1] * o[1] + o[2] * o[2]);
+      const double na = nrm[0] * m[8] + nrm[1] * m[9] + nrm[2] * m[10];
+      return std::max((nrm[0] * o[0] + nrm[1] * o[1] + nrm[2] * o[2]) / lo, 0.0) / std::max(na, SHADOWMAP_MIN_CN);
+    }
     const V3 d = {P[0] - light_pos[0], P[1] - light_pos[1], P[2] - light_pos[2]};
     V3 r, nl;
     for (int k = 0; k < 3; ++k) {
@@ -153,39 +180,36 @@ struct Geom {
   }
   double threshold(const V3& q, const Plane& g, double cx, double cy, double texel_world) const {
     double ox = cx - q[0], oy = cy - q[1];
-    double iz = 1.0 / q[2] + g[0] * ox + g[1] * oy;
-    double zc = iz > 0 ? 1.0 / iz : 1e30;
+    double zc = w_inv(w(q[2]) + g[0] * ox + g[1] * oy);
     double lim = g[3] * texel_world * std::sqrt(ox * ox + oy * oy);
     zc = std::clamp(zc, q[2] - lim, q[2] + lim);
     return zc - s.bias * texel_world - s.spread_bias * g[2];
   }
   // Whether the light's cone from the receiver reaches texel (cx, cy) at map depth zm: kr is
-  // shadows.reach times k, the texels per unit of 1/z at the light's radius; 0: always
-  // (shadowmap_common.h's sm_reaches).
-  static bool reaches(const V3& q, double cx, double cy, double zm, double kr) {
+  // shadows.reach times k(); 0: always (shadowmap_common.h's sm_reaches).
+  bool reaches(const V3& q, double cx, double cy, double zm, double kr) const {
     if (kr <= 0.0) return true;
-    const double r = kr * std::max(1.0 / zm - 1.0 / q[2], 0.0) + SHADOWMAP_REACH_MARGIN;
+    const double r = kr * gap(zm, q[2]) + SHADOWMAP_REACH_MARGIN;
     const double ox = cx - q[0], oy = cy - q[1];
     return ox * ox + oy * oy <= r * r;
   }
   // The radius of the light's cone from the receiver (depth qz) at map depth z, widened margin
   // times, within max_radius (shadowmap_common.h's sm_cone_radius).
-  static double cone_radius(double k, double z, double qz, double margin, double max_radius) {
-    return std::min(margin * k * std::max(1.0 / z - 1.0 / qz, 0.0), max_radius);
+  double cone_radius(double k, double z, double qz, double margin, double max_radius) const {
+    return std::min(margin * k * gap(z, qz), max_radius);
   }
   // The narrowed blocker search's box (sm_cone_box): the half-width of the square of the cone's
   // area, at least a texel wide.
-  static double cone_box(double k, double z, double qz, double margin, double max_radius) {
+  double cone_box(double k, double z, double qz, double margin, double max_radius) const {
     return std::max(kBoxOfDisk * cone_radius(k, z, qz, margin, max_radius), 0.5);
   }
-  // Bounds of threshold() over the box [lo, hi): 1/z is linear in (u, v), so the plane's depth
+  // Bounds of threshold() over the box [lo, hi): w(z) is linear in (u, v), so the plane's depth
   // is extreme at the corners; its clamp to q.z ± g[3]·tw·|o| is bounded by the farthest corner.
   std::array<double, 2> threshold_range(const V3& q, const Plane& g, V2 lo, V2 hi, double tw) const {
     double zmin = 1e30, zmax = -1e30, far = 0;
     for (int k = 0; k < 4; ++k) {
       const double ox = ((k & 1) ? hi[0] : lo[0]) - q[0], oy = ((k & 2) ? hi[1] : lo[1]) - q[1];
-      const double iz = 1.0 / q[2] + g[0] * ox + g[1] * oy;
-      const double zc = iz > 0 ? 1.0 / iz : 1e30;
+      const double zc = w_inv(w(q[2]) + g[0] * ox + g[1] * oy);
       zmin = std::min(zmin, zc);
       zmax = std::max(zmax, zc);
       far = std::max(far, std::sqrt(ox * ox + oy * oy));

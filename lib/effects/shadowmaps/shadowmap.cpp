@@ -65,10 +65,10 @@ std::vector<float> pcss_reference(const ShadowmapInputs& in, const ShadowmapData
   const auto taps = shadowmap_taps(s.taps, s.pattern);
   const size_t nt = taps.size() / 2;
   ShadowmapStats st;
-  const double k = s.light_radius * map.height / (2.0 * G.tan_y);
+  const double k = G.k();
   auto out =
       detail::shade_receivers(G, st, [&](int px, int py, const V3& q, const Plane& g, const V3& P, const V3& nrm) -> Shaded {
-        double texel_world = 2.0 * q[2] * G.tan_y / map.height;
+        double texel_world = G.texel_world(q[2]);
         double a = s.rotate ? pixel_angle(uint32_t(px), uint32_t(py)) : 0.0;
         double ca = std::cos(a), sa = std::sin(a);
         auto unit = [&](size_t t) -> V2 {  // the tap's offset in the filter's unit disk, turned
@@ -96,12 +96,12 @@ std::vector<float> pcss_reference(const ShadowmapInputs& in, const ShadowmapData
           db = cnt > 0 ? sum / double(cnt) : 0.0;
           return cnt > 0;
         };
-        double rs = Geom::cone_radius(k, map.min_depth, q[2], 1.0, s.max_radius);
+        double rs = G.cone_radius(k, map.min_depth, q[2], 1.0, s.max_radius);
         double db = 0;
         bool found = search(rs, db);
         // Narrowed to the blockers' cone, while it shrinks (shadowmap_pcss.comp).
         for (int pass = 0; found && pass < s.pcss_narrow; ++pass) {
-          const double rn = Geom::cone_radius(k, db, q[2], PCSS_NARROW_MARGIN, s.max_radius);
+          const double rn = G.cone_radius(k, db, q[2], PCSS_NARROW_MARGIN, s.max_radius);
           if (rn >= rs) break;
           found = search(rn, db);
           rs = rn;
@@ -110,7 +110,7 @@ std::vector<float> pcss_reference(const ShadowmapInputs& in, const ShadowmapData
           ++st.skipped;
           return {1.0, 0.0};
         }
-        double rf = k * std::max(1.0 / db - 1.0 / q[2], 0.0);
+        double rf = k * G.gap(db, q[2]);
         if (rf > s.max_radius) {
           rf = s.max_radius;
           ++st.clamped;
@@ -129,7 +129,7 @@ std::vector<float> pcss_reference(const ShadowmapInputs& in, const ShadowmapData
           }
           const double zm = G.fetch(c[0], c[1]);
           if (zm >= G.threshold(q, g, c[0], c[1], texel_world) ||
-              !Geom::reaches(q, c[0], c[1], zm, s.reach * k))
+              !G.reaches(q, c[0], c[1], zm, s.reach * k))
             lit += wt;
         }
         return {all > 0 ? lit / all : 1.0, rf};
@@ -169,9 +169,11 @@ shaders::ShadowmapParams shadowmap_params(const ShadowmapSettings& s, const Shad
     *L[r * 4 + 3] = float(m[size_t(r * 4)] * e[0] + m[size_t(r * 4 + 1)] * e[1] +
                           m[size_t(r * 4 + 2)] * e[2] + m[size_t(r * 4 + 3)]);
   }
-  const double tan_y = std::tan(s.yfov_deg * kPi / 360.0);
+  // Perspective: tan of the half fields of view; orthographic (a sun): the half extents.
+  const double tan_y = s.ortho ? 0.5 * s.height_m : std::tan(s.yfov_deg * kPi / 360.0);
   p.tan_y = float(tan_y);
-  p.tan_x = float(tan_y * map.width / map.height);
+  p.tan_x = float(s.ortho ? 0.5 * s.width_m : tan_y * map.width / map.height);
+  p.ortho = s.ortho ? 1u : 0u;
   p.light_radius = float(s.light_radius);
   p.min_depth = float(std::min(map.min_depth, 1e30));
   p.far_clip = float(std::min(s.far_clip, 1e30));
@@ -310,7 +312,7 @@ DerivedShadow shadowmap_derive_reference(const ShadowmapInputs& in, const Shadow
       bool back = false;
       const Plane g = G.receiver_plane(px, py, q, P, back);
       if (back) continue;  // L.shadow 1 where key.direct vanishes (contract)
-      const double texel_world = 2.0 * q[2] * G.tan_y / map.height;
+      const double texel_world = G.texel_world(q[2]);
       const double cx = std::floor(q[0]) + 0.5, cy = std::floor(q[1]) + 0.5;
       out.shadow[i] = G.fetch(cx, cy) >= G.threshold(q, g, cx, cy, texel_world) ? 1.0f : 0.0f;
       double zb = -1.0;
@@ -322,10 +324,11 @@ DerivedShadow shadowmap_derive_reference(const ShadowmapInputs& in, const Shadow
           if (zm < G.threshold(q, g, x, y, texel_world)) zb = std::max(zb, zm);
         }
       if (zb > 0.0) {
+        // Along the ray to the light's centre (sm_occluder_distance); a sun's is its axis.
         const double d = std::sqrt((P[0] - G.light_pos[0]) * (P[0] - G.light_pos[0]) +
                                    (P[1] - G.light_pos[1]) * (P[1] - G.light_pos[1]) +
                                    (P[2] - G.light_pos[2]) * (P[2] - G.light_pos[2]));
-        out.occluder[i] = float(d * (q[2] - zb) / q[2]);
+        out.occluder[i] = float(s.ortho ? q[2] - zb : d * (q[2] - zb) / q[2]);
       }
     }
   }

@@ -128,7 +128,7 @@ struct VssmRef {
         const double cx = std::min(std::floor(lo[0] + (i + 0.5) / g * (hi[0] - lo[0])), double(W - 1)) + 0.5;
         const double cy = std::min(std::floor(lo[1] + (j + 0.5) / g * (hi[1] - lo[1])), double(Hh - 1)) + 0.5;
         const double z = G.fetch(cx, cy);
-        if (z < G.threshold(q, gr, cx, cy, tw) && Geom::reaches(q, cx, cy, z, kr)) { nb += 1; zb += z; }
+        if (z < G.threshold(q, gr, cx, cy, tw) && G.reaches(q, cx, cy, z, kr)) { nb += 1; zb += z; }
       }
     return 1.0 - nb / double(g * g);
   }
@@ -212,11 +212,11 @@ struct VssmRef {
     // surface at far_z itself then no longer blocks it; the background a quarter farther,
     // tried, kept that but cost grazing 0.062 -> 0.080 and lowlight 0.242 -> 0.301 RMSE.)
     const V3 q = {q_in[0], q_in[1], std::min(q_in[2], v.far_z)};
-    const double tw = 2.0 * q[2] * G.tan_y / G.map.height;
-    const double k = s.light_radius * G.map.height / (2.0 * G.tan_y);
+    const double tw = G.texel_world(q[2]);
+    const double k = G.k();
     (void)px;
     (void)py;
-    const double rs = Geom::cone_radius(k, G.map.min_depth, q[2], 1.0, s.max_radius);
+    const double rs = G.cone_radius(k, G.map.min_depth, q[2], 1.0, s.max_radius);
     F2 a, b;
     square(q, rs, a, b);
     const double lim = g[3] * tw * (rs + 1.0) * 1.5;
@@ -230,14 +230,14 @@ struct VssmRef {
     bool found = blocker_search(q, g, tw, unbias, a, b, zavg);
     double hs = std::max(rs, 0.5);
     for (int pass = 0; found && pass < s.vssm_narrow; ++pass) {
-      const double hn = Geom::cone_box(k, zavg, q[2], VSSM_NARROW_MARGIN, s.max_radius);
+      const double hn = G.cone_box(k, zavg, q[2], VSSM_NARROW_MARGIN, s.max_radius);
       if (hn >= hs) break;
       square(q, hn, a, b);
       found = blocker_search(q, g, tw, unbias, a, b, zavg);
       hs = hn;
     }
     if (!found) { ++st.skipped; return {1.0, 0.0}; }
-    double rf = k * std::max(1.0 / zavg - 1.0 / q[2], 0.0);
+    double rf = k * G.gap(zavg, q[2]);
     if (rf > s.max_radius) { rf = s.max_radius; ++st.clamped; }
     square(q, kBoxOfDisk * rf, a, b);
     if (q[2] - zavg < contact) {

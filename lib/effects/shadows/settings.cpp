@@ -25,17 +25,38 @@ constexpr int kTile = SHADOWS_ISG_TILE;
 constexpr double kAutoGrazingDegrees = 14.0;
 }  // namespace
 
+// A sun, for method isg (eq. 5 and 8 take a light's centre and radius): a sphere light this many
+// scene radii from the camera along its direction, of the radius that subtends the sun's angle.
+// Eq. 8's penumbra L·d/(D − d) is then tan(angle/2)·d within d/D (≤ 2e-4 for occluders within
+// two scene radii of the receiver), and the rays to it from the scene's points part by at most
+// 2e-4 rad (2 scene radii apart), under a tenth of a 0.5° sun's half angle; in float32 the
+// centre (camera-relative) keeps 6e-8 of D.
+constexpr double kSunDistance = 1e4;
+
 double light_size(const io::Light& light) {
   switch (light.type) {
     case io::LightType::sphere:
-    case io::LightType::disk: return light.radius;
+    case io::LightType::disk:
+    case io::LightType::spot: return light.radius;  // a spot's shadow is its disk's (contract)
     case io::LightType::rect: {
       const double a = 0.5 * light.size[0], b = 0.5 * light.size[1];
       return std::sqrt(4.0 * a * b / kPi);
     }
     case io::LightType::point: return 0.0;
+    case io::LightType::sun: return std::tan(light.angle_deg * kPi / 360.0);
   }
   return 0.0;
+}
+
+std::array<double, 3> light_centre_for(const io::Light& light, const std::array<double, 3>& eye,
+                                       double scene_radius, double* radius) {
+  if (!light.distant()) {
+    if (radius) *radius = light_size(light);
+    return light.position;
+  }
+  const double D = kSunDistance * std::max(scene_radius, 1e-6);
+  if (radius) *radius = D * light_size(light);
+  return {eye[0] + D * light.direction[0], eye[1] + D * light.direction[1], eye[2] + D * light.direction[2]};
 }
 
 std::string shadows_isg_unsupported(const io::Light* light) {
@@ -56,13 +77,13 @@ ShadowSettings shadow_settings(const io::Light& light, const io::Camera& cam, do
   s.rotate = p.get(shadow_keys::rotate);
   s.search_reach = p.get(shadow_keys::search_reach);
   s.tile_skip = p.get(shadow_keys::tile_skip);
-  s.light = light.position;
-  s.light_size = light_size(light);
-  s.oriented = light.type == io::LightType::disk || light.type == io::LightType::rect;
+  const auto v = PinholeView::of(cam, height);
+  s.light = light_centre_for(light, v.eye, s.scene_radius, &s.light_size);
+  s.oriented = light.type == io::LightType::disk || light.type == io::LightType::rect ||
+               light.type == io::LightType::spot;
   const double nl = std::sqrt(light.normal[0] * light.normal[0] + light.normal[1] * light.normal[1] +
                               light.normal[2] * light.normal[2]);
   if (nl > 0) s.light_normal = {light.normal[0] / nl, light.normal[1] / nl, light.normal[2] / nl};
-  const auto v = PinholeView::of(cam, height);
   s.f_px = v.f_px;
   s.eye = v.eye;
   s.rot = v.rot;
@@ -80,8 +101,6 @@ uint32_t shadows_isg_tiles_words(uint32_t w, uint32_t h) {
 std::string shadowmap_unsupported(const io::Light* light, const std::string& name) {
   if (!light) return "light " + name + " is not in the scene file";
   if (!light->shadowmap) return "no shadowmap in the scene file for light " + name;
-  if (light->shadowmap->projection != "perspective")
-    return "shadow map of light " + name + " is not perspective";
   if (light->type == io::LightType::point) return "point light: hard shadows are already right";
   return "";
 }
@@ -94,6 +113,9 @@ ShadowmapSettings shadowmap_settings(const io::Light& light, const io::Camera* c
   s.file = light.shadowmap->file;
   s.world_to_light = light.shadowmap->world_to_light;
   s.yfov_deg = light.shadowmap->yfov_deg;
+  s.ortho = light.shadowmap->orthographic();
+  s.width_m = light.shadowmap->width_m;
+  s.height_m = light.shadowmap->height_m;
   s.far_clip = light.shadowmap->far_clip;
   s.light_radius = light_size(light);
   s.facing = light.type == io::LightType::sphere;
@@ -134,12 +156,12 @@ ShadowmapSettings shadowmap_settings(const io::Light& light, const io::Camera* c
 
 namespace {
 // ShadowmapData::noise: second differences of 1/z (linear on a plane under the map's
-// perspective) at texels whose two neighbours along the axis are surfaces too and where the
+// perspective; of z under a sun's orthographic map) at texels whose two neighbours along the axis are surfaces too and where the
 // depth changes (a plane rounded to float32 steps is flat between the steps: counting the flat
 // texels would hide the steps of a surface whose depth changes slowly), not at silhouettes
 // (a jump of over SILHOUETTE of the depth: 0.2 m at 4 m, where a float32 step 1e6 m from the
 // origin is 62.5 mm).
-double depth_noise(const ShadowmapData& d) {
+double depth_noise(const ShadowmapData& d, bool ortho) {
   // A map over 1024² texels is measured on every step-th row and column (at most 2^20 texels, two
   // differences each: 16 MiB here rather than 268 MiB for a 4096² map).
   const int step = int(std::ceil(std::sqrt(double(d.width) * double(d.height) / double(1 << 20))));
@@ -157,7 +179,8 @@ double depth_noise(const ShadowmapData& d) {
         constexpr double SILHOUETTE = 0.05;
         if (!surface(a) || !surface(b) || (a == z && b == z)) continue;
         if (std::max(std::abs(a - z), std::abs(b - z)) > SILHOUETTE * z) continue;
-        r.push_back(std::abs(1.0 / a - 2.0 / z + 1.0 / b) * z * z / std::sqrt(6.0));
+        // A sun's orthographic map: z itself is linear on a plane.
+        r.push_back((ortho ? std::abs(a - 2.0 * z + b) : std::abs(1.0 / a - 2.0 / z + 1.0 / b) * z * z) / std::sqrt(6.0));
       }
     }
   if (r.empty()) return 0.0;
@@ -167,14 +190,14 @@ double depth_noise(const ShadowmapData& d) {
 }
 }  // namespace
 
-ShadowmapData make_shadowmap(int width, int height, std::vector<float> z) {
+ShadowmapData make_shadowmap(int width, int height, std::vector<float> z, bool ortho) {
   ShadowmapData d;
   d.width = width;
   d.height = height;
   d.z = std::move(z);
   for (float v : d.z)
     if (v > 0.0f && v < ISG_BACKGROUND_DEPTH) d.min_depth = std::min(d.min_depth, double(v));
-  d.noise = depth_noise(d);
+  d.noise = depth_noise(d, ortho);
   return d;
 }
 
@@ -219,7 +242,7 @@ ShadowmapData load_shadowmap(const ShadowmapSettings& s) {
     for (const auto& [i, v] : fill) z[i] = v;
     bad = std::move(left);
   }
-  auto map = make_shadowmap(W, H, std::move(z));
+  auto map = make_shadowmap(W, H, std::move(z), s.ortho);
   map.nonfinite = nonfinite;
   return map;
 }
@@ -232,18 +255,21 @@ ShadowAuto choose_shadow_method(const io::Image& img, const io::Roles& roles, co
   // isg turns world radii into pixels through the camera; pcss needs only P and the map.
   if (!cam) return {"pcss", "no camera, which isg needs: the shadow map's pcss"};
   const io::ShadowMap& sm = *light->shadowmap;
-  const std::array<double, 3> L = light->position;
   const PinholeView view = PinholeView::of(*cam, img.height);
+  const double scene_r = 1.0;  // a sun's stand-in stands 1e4 of these away: only its direction counts here
+  const std::array<double, 3> L = light_centre_for(*light, view.eye, scene_r, nullptr);
   // Far from the origin: the float32 step of positions there against a shadow-map texel at the
   // camera's distance from the light. Past a texel the map can no longer place the receiver
   // within its own texel and isg, which works from camera-relative depth, does better; under it
   // pcss still does, its narrow edges taken from the input (shadows.input_edges). Own Cycles
   // renders of contact (texel 0.0114 m; ratio to doing nothing, pcss against isg): 1e5 m from the
   // origin, a step of 0.69 texel, 0.26 against 0.39; 1e6 m, 5.5 texels, 0.82 against 0.62.
-  double mag = std::max({std::abs(L[0]), std::abs(L[1]), std::abs(L[2])});
+  double mag = light->distant() ? 0.0 : std::max({std::abs(L[0]), std::abs(L[1]), std::abs(L[2])});
   for (int k = 0; k < 3; ++k) mag = std::max(mag, std::abs(view.eye[size_t(k)]));
   const double dist = std::hypot(L[0] - view.eye[0], L[1] - view.eye[1], L[2] - view.eye[2]);
-  const double texel = std::max(dist, 1e-6) * 2.0 * std::tan(sm.yfov_deg * kPi / 360.0) / double(std::max(sm.height, 1));
+  // A texel at the camera's distance from the light (a sun's orthographic map: everywhere).
+  const double texel = sm.orthographic() ? sm.height_m / double(std::max(sm.height, 1))
+                                         : std::max(dist, 1e-6) * 2.0 * std::tan(sm.yfov_deg * kPi / 360.0) / double(std::max(sm.height, 1));
   const double step = float32_step(mag);
   // Positions refitted (input.positions, lib/run/positions.h) place receivers within a fraction
   // of the step: the contact case 1e6 m away, pcss 0.23 against isg 0.35 from P (the same at

@@ -40,11 +40,18 @@ struct ShadowSettings {
   double d_max_floor = 0.0; // a tile: the whole frame's largest occluder distance (eq. 8)
 };
 
-// L of eq. 5 and 8, the light's radius in world units: a sphere's or a disk's radius (a disk is
-// taken as seen face-on, as the parallel-planes assumption of §3.1 has it); a rect light's
-// area-equivalent radius from its half-extents a, b: sqrt(4ab / π), so the round kernel covers
-// the rect's area. 0 for a point light.
+// L of eq. 5 and 8, the light's radius in world units: a sphere's, a disk's or a spot's radius
+// (a disk is taken as seen face-on, as the parallel-planes assumption of §3.1 has it); a rect
+// light's area-equivalent radius from its half-extents a, b: sqrt(4ab / π), so the round kernel
+// covers the rect's area. 0 for a point light. A sun: tan of its half angle, its radius per unit
+// of distance.
 double light_size(const io::Light& light);
+
+// The light's centre and (radius) L for eq. 5 and 8: its position and light_size(); a sun's
+// stand-in, a sphere kSunDistance scene radii from the eye along its direction that subtends its
+// angle (settings.cpp).
+std::array<double, 3> light_centre_for(const io::Light& light, const std::array<double, 3>& eye,
+                                       double scene_radius, double* radius);
 
 // Why method isg cannot run for this light ("" when it can).
 std::string shadows_isg_unsupported(const io::Light* light);
@@ -63,8 +70,13 @@ struct ShadowmapSettings {
   std::filesystem::path file;             // the map's EXR (channel Z)
   io::Mat4 world_to_light = io::identity4();
   double yfov_deg = 90.0;
+  // A sun's orthographic map (contract input 3): it covers width_m x height_m around its axis.
+  bool ortho = false;
+  double width_m = 0.0, height_m = 0.0;
   double far_clip = 1e30;                 // the map's far plane: depths beyond it are background
-  double light_radius = 0.0;              // world units (light_size() of the light)
+  // World units (light_size() of the light); a sun: tan of its half angle, its radius per unit
+  // of distance (a cone widens by that per unit of depth along the map's axis).
+  double light_radius = 0.0;
   bool facing = true;                     // a sphere light (its disk faces the receiver), not a
                                           // disk or rect light (in the map's plane)
   int taps = 32;                          // shadows.pcss_taps
@@ -146,6 +158,6 @@ struct ShadowmapData {
 // clipped at its far plane (a backdrop 1e6 away must not set the SAT methods' depth range).
 // NaN/Inf texels are repaired with their farthest finite neighbour (counted in `nonfinite`).
 ShadowmapData load_shadowmap(const ShadowmapSettings& s);
-ShadowmapData make_shadowmap(int width, int height, std::vector<float> z);
+ShadowmapData make_shadowmap(int width, int height, std::vector<float> z, bool ortho = false);
 
 }  // namespace isg::effects
