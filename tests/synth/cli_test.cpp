@@ -7,7 +7,9 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <map>
 #include <nlohmann/json.hpp>
+#include <set>
 #include <sstream>
 
 namespace {
@@ -142,6 +144,9 @@ TEST(SynthCli, RejectsBadInputWithOneLine) {
            {"contact --width 0" + out, "--width"},
            {"contact --roughness 2" + out, "--roughness"},
            {"contact --light-radius -1" + out, "--light-radius"},
+           {"sun --light-radius 0.2" + out, "--light-radius"},
+           {"sun --sun-angle 0" + out, "--sun-angle"},
+           {"contact --sun-angle 1" + out, "--sun-angle"},
            {"contact --width abc" + out, "--width"},
            {"contact --bogus" + out, "bogus"},
            {"contact", "--out"}}) {
@@ -153,6 +158,69 @@ TEST(SynthCli, RejectsBadInputWithOneLine) {
   EXPECT_FALSE(fs::exists(fs::path(ISG_SYNTH_TMP) / "bad" / "aovs.exr"));
 }
 
+// Each light of sun, spot and three-lights: its files, its AOV channels, and in scene.json
+// exactly the contract's keys for its type (AOV_CONTRACT.md, input 3), its shadow map's too.
+TEST(SynthCli, EveryLightInTheContractLayout) {
+  using Keys = std::set<std::string>;
+  const Keys perspective = {"file", "world_to_light", "projection", "yfov_deg", "near",
+                            "far",  "width",          "height"};
+  const Keys orthographic = {"file", "world_to_light", "projection", "width_m", "height_m", "near",
+                             "far",  "width",          "height"};
+  const std::map<std::string, Keys> light_keys = {
+      {"sphere", {"name", "type", "position", "radius", "shadowmap"}},
+      {"rect", {"name", "type", "position", "normal", "size", "u_axis", "shadowmap"}},
+      {"spot",
+       {"name", "type", "position", "radius", "normal", "spot_angle_deg", "spot_blend",
+        "shadowmap"}},
+      {"sun", {"name", "type", "direction", "angle_deg", "shadowmap"}}};
+  const std::map<std::string, std::vector<std::pair<std::string, std::string>>> scenes = {
+      {"sun", {{"sun", "sun"}}},
+      {"spot", {{"spot", "spot"}}},
+      {"three-lights", {{"key", "sphere"}, {"sun", "sun"}, {"fill", "rect"}}}};
+  for (const auto& [scene, lights] : scenes) {
+    const fs::path out = fs::path(ISG_SYNTH_TMP) / ("lights-" + scene);
+    fs::remove_all(out);
+    const Result r = run(scene + " --out " + out.string() +
+                             " --width 32 --height 18 --ref-spp 1 --shadowmap-size 32 --threads 2" +
+                             (scene == "spot" ? "" : " --sun-angle 1.5"),
+                         "lights");
+    ASSERT_EQ(r.code, 0) << scene << ": " << r.err;
+    std::ifstream jf(out / "scene.json");
+    const auto j = nlohmann::json::parse(jf);
+    ASSERT_EQ(j["lights"].size(), lights.size()) << scene;
+    auto in = OIIO::ImageInput::open((out / "aovs.exr").string());
+    ASSERT_TRUE(in);
+    for (size_t i = 0; i < lights.size(); ++i) {
+      const auto& [name, type] = lights[i];
+      const auto& l = j["lights"][i];
+      EXPECT_EQ(l["name"], name);
+      EXPECT_EQ(l["type"], type);
+      Keys keys, map_keys;
+      for (const auto& [k, v] : l.items()) keys.insert(k);
+      for (const auto& [k, v] : l["shadowmap"].items()) map_keys.insert(k);
+      EXPECT_EQ(keys, light_keys.at(type)) << scene << " " << name;
+      EXPECT_EQ(map_keys, type == "sun" ? orthographic : perspective) << scene << " " << name;
+      EXPECT_EQ(l["shadowmap"]["file"], "shadowmap_" + name + ".exr");
+      EXPECT_EQ(l["shadowmap"]["projection"], type == "sun" ? "orthographic" : "perspective");
+      if (type == "sun") {
+        EXPECT_EQ(l["angle_deg"], 1.5);
+        EXPECT_EQ(l["shadowmap"]["near"], 0.0);
+      }
+      for (const std::string& f : {"shadowmap_" + name + ".exr", "ref/softshadow_" + name + ".exr"})
+        EXPECT_TRUE(fs::exists(out / f)) << scene << " " << f;
+      for (const char* c : {".shadow", ".occluder", ".direct.R", ".direct.G", ".direct.B"})
+        EXPECT_GE(in->spec().channelindex(name + c), 0) << scene << " " << name << c;
+      auto ref = OIIO::ImageInput::open((out / "ref" / ("softshadow_" + name + ".exr")).string());
+      ASSERT_TRUE(ref);
+      EXPECT_EQ(ref->spec().nchannels, 2);
+      EXPECT_GE(ref->spec().channelindex(name + ".softshadow"), 0);
+      EXPECT_GE(ref->spec().channelindex("mask"), 0);
+    }
+    EXPECT_EQ(in->spec().nchannels, 19 + 5 * int(lights.size())) << scene;
+    EXPECT_FALSE(fs::exists(out / "shadowmap_key.exr") && lights[0].first != "key") << scene;
+  }
+}
+
 TEST(SynthCli, ListsScenes) {
   const fs::path out = fs::path(ISG_SYNTH_TMP) / "list.txt";
   ASSERT_EQ(std::system((std::string(ISG_SYNTH_EXE) + " --list >" + out.string()).c_str()), 0);
@@ -160,8 +228,8 @@ TEST(SynthCli, ListsScenes) {
   std::stringstream ss;
   ss << f.rdbuf();
   const std::string text = ss.str();
-  for (const char* s : {"parallel-planes", "contact", "stack", "gloss", "dof", "far-world", "grazing",
-                        "depth-range"})
+  for (const char* s : {"parallel-planes", "contact", "stack", "gloss", "dof", "far-world",
+                        "grazing", "depth-range", "sun", "spot", "three-lights"})
     EXPECT_NE(text.find(s), std::string::npos) << s;
 }
 

@@ -386,8 +386,13 @@ TEST(Options, RejectedWithTheOptionNamed) {
   o = {};
   o.fstop = -1;
   EXPECT_NE(message(o).find("--fstop"), std::string::npos);
+  o = {};
+  o.sun_angle = 0;
+  EXPECT_NE(message(o).find("--sun-angle"), std::string::npos);
+  o.sun_angle = 91;
+  EXPECT_NE(message(o).find("--sun-angle"), std::string::npos);
   EXPECT_EQ(message(Options{}), "");
-  EXPECT_EQ(scene_names().size(), 9u);
+  EXPECT_EQ(scene_names().size(), 12u);
 }
 
 }  // namespace

@@ -101,6 +101,10 @@ const char* light_type(Light::Type t) {
       return "disk";
     case Light::Type::rect:
       return "rect";
+    case Light::Type::spot:
+      return "spot";
+    case Light::Type::sun:
+      return "sun";
   }
   return "sphere";
 }
@@ -121,25 +125,53 @@ void write_scene_json(const fs::path& path, const Scene& s, int shadowmap_size) 
                  {"fstop", c.fstop},
                  {"focal_length_mm", c.focal_length_mm},
                  {"sensor_width_mm", c.sensor_width_mm}};
-  nlohmann::ordered_json l;
-  l["name"] = "key";
-  l["type"] = light_type(s.key.type);
-  l["position"] = vec_json(s.key.position);
-  if (s.key.type != Light::Type::rect) l["radius"] = s.key.radius;
-  if (s.key.type != Light::Type::sphere) l["normal"] = vec_json(s.key.normal);
-  if (s.key.type == Light::Type::rect) {
-    l["size"] = {s.key.size_u, s.key.size_v};
-    l["u_axis"] = vec_json(s.key.u_axis);
+  auto lights = nlohmann::ordered_json::array();
+  for (size_t i = 0; i < s.lights.size(); ++i) {
+    const Light& k = s.lights[i];
+    const bool sun = k.type == Light::Type::sun;
+    nlohmann::ordered_json l;
+    l["name"] = k.name;
+    l["type"] = light_type(k.type);
+    if (sun) {
+      l["direction"] = vec_json(k.direction);
+      l["angle_deg"] = k.angle_deg;
+    } else {
+      l["position"] = vec_json(k.position);
+    }
+    if (k.type == Light::Type::sphere || k.type == Light::Type::disk || k.type == Light::Type::spot)
+      l["radius"] = k.radius;
+    if (k.type == Light::Type::disk || k.type == Light::Type::rect || k.type == Light::Type::spot)
+      l["normal"] = vec_json(k.normal);
+    if (k.type == Light::Type::rect) {
+      l["size"] = {k.size_u, k.size_v};
+      l["u_axis"] = vec_json(k.u_axis);
+    }
+    if (k.type == Light::Type::spot) {
+      l["spot_angle_deg"] = k.spot_angle_deg;
+      l["spot_blend"] = k.spot_blend;
+    }
+    const ShadowMapView v = shadowmap_view(s, i);
+    nlohmann::ordered_json m;
+    m["file"] = "shadowmap_" + k.name + ".exr";
+    m["world_to_light"] = matrix_json(v.world_to_light);
+    if (v.orthographic) {
+      m["projection"] = "orthographic";
+      m["width_m"] = v.width_m;
+      m["height_m"] = v.height_m;
+      m["near"] = v.near;
+      m["far"] = v.far;
+    } else {
+      m["projection"] = "perspective";
+      m["yfov_deg"] = v.yfov_deg;
+      m["near"] = v.near;
+      m["far"] = v.far;
+    }
+    m["width"] = shadowmap_size;
+    m["height"] = shadowmap_size;
+    l["shadowmap"] = m;
+    lights.push_back(l);
   }
-  l["shadowmap"] = {{"file", "shadowmap_key.exr"},
-                    {"world_to_light", matrix_json(world_to_light(s))},
-                    {"projection", "perspective"},
-                    {"yfov_deg", 90.0},
-                    {"near", 0.05},
-                    {"far", 100.0},
-                    {"width", shadowmap_size},
-                    {"height", shadowmap_size}};
-  j["lights"] = nlohmann::ordered_json::array({l});
+  j["lights"] = lights;
   const fs::path tmp = path.string() + ".part";
   {
     std::ofstream f(tmp);
@@ -175,32 +207,42 @@ std::vector<Timing> generate(const Options& opts, const fs::path& out_dir) {
             {"other.R", "other.G", "other.B"});
   times.push_back({"aovs.exr", seconds_since(t0)});
 
-  t0 = clock::now();
-  write_exr(out_dir / "shadowmap_key.exr", render_shadowmap(s, opts.shadowmap_size),
-            {{"isg:case", Attr::Kind::s, 0, 0, s.name}});
-  times.push_back({"shadowmap_key.exr", seconds_since(t0)});
+  for (size_t i = 0; i < s.lights.size(); ++i) {
+    t0 = clock::now();
+    const std::string file = "shadowmap_" + s.lights[i].name + ".exr";
+    write_exr(out_dir / file, render_shadowmap(s, opts.shadowmap_size, i),
+              {{"isg:case", Attr::Kind::s, 0, 0, s.name}});
+    times.push_back({file, seconds_since(t0)});
+  }
   write_scene_json(out_dir / "scene.json", s, opts.shadowmap_size);
   if (!opts.refs) return times;
 
-  auto ref = [&](const std::string& file, auto&& render, MaskKind mask, int spp) {
+  // isg:light_radius: the light's (rect: half its u size); a sun has isg:light_angle_deg instead.
+  auto size_attr = [](const Light& l) -> Attr {
+    if (l.type == Light::Type::sun) return {"isg:light_angle_deg", Attr::Kind::f, 0, l.angle_deg};
+    return {"isg:light_radius", Attr::Kind::f, 0,
+            l.type == Light::Type::rect ? l.size_u / 2 : l.radius};
+  };
+  auto ref = [&](const std::string& file, auto&& render, MaskKind mask, int spp, size_t light = 0) {
     const auto r0 = clock::now();
     Image img = render();
     const double secs = seconds_since(r0);
-    add_mask(img, aovs, mask);
+    add_mask(img, aovs, mask, s.lights[light].name);
     write_exr(out_dir / "ref" / file, img,
               {{"isg:spp", Attr::Kind::i, spp},
                {"isg:render_seconds", Attr::Kind::f, 0, secs},
                {"isg:case", Attr::Kind::s, 0, 0, s.name},
-               {"isg:light_radius", Attr::Kind::f, 0,
-                s.key.type == Light::Type::rect ? s.key.size_u / 2 : s.key.radius},
+               size_attr(s.lights[light]),
                {"isg:fstop", Attr::Kind::f, 0, s.camera.fstop},
                {"isg:thin_lens", Attr::Kind::i, s.depth_of_field ? 1 : 0}});
     times.push_back({"ref/" + file, secs});
   };
   const int spp = opts.ref_spp;
-  ref(
-      "softshadow_key.exr", [&] { return render_softshadow(s, opts, spp); }, MaskKind::softshadow,
-      spp);
+  for (size_t i = 0; i < s.lights.size(); ++i) {
+    ref(
+        "softshadow_" + s.lights[i].name + ".exr",
+        [&] { return render_softshadow(s, opts, spp, i); }, MaskKind::softshadow, spp, i);
+  }
   if (s.parallel_planes) {
     ref(
         "softshadow_closed_form.exr", [&] { return render_softshadow_closed_form(s, opts); },

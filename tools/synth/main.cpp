@@ -11,7 +11,7 @@ int main(int argc, char** argv) {
   synth::Options o;
   std::string out;
   bool list = false;
-  double light_radius = 0, roughness = 0, fstop = 0;
+  double light_radius = 0, sun_angle = 0, roughness = 0, fstop = 0;
 
   CLI::App app{"isg-synth: ground-truth AOVs and distribution-ray-traced references"};
   app.set_version_flag("--version", "isg-synth " ISG_VERSION);
@@ -22,7 +22,9 @@ int main(int argc, char** argv) {
   app.add_option("--aov-spp", o.aov_spp, "AOV samples per pixel (1: pixel centres)")
       ->capture_default_str();
   app.add_option("--ref-spp", o.ref_spp, "reference samples per pixel")->capture_default_str();
-  auto* lr = app.add_option("--light-radius", light_radius, "key light radius (world units)");
+  auto* lr = app.add_option("--light-radius", light_radius,
+                            "the first light's radius (world units; rect: half its width)");
+  auto* sa = app.add_option("--sun-angle", sun_angle, "every sun's angle_deg (its disk, degrees)");
   auto* rough = app.add_option("--roughness", roughness, "roughness of every glossy surface");
   auto* fs = app.add_option("--fstop", fstop, "f-number; turns on DOF in ref/beauty.exr");
   app.add_option("--frame", o.frame, "frame number (moves the scene's moving object)")
@@ -54,6 +56,7 @@ int main(int argc, char** argv) {
     if (out.empty()) throw std::runtime_error("--out: missing");
     o.refs = !no_refs;
     if (lr->count()) o.light_radius = light_radius;
+    if (sa->count()) o.sun_angle = sun_angle;
     if (rough->count()) o.roughness = roughness;
     if (fs->count()) o.fstop = fstop;
     synth::validate(o);

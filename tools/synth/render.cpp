@@ -5,11 +5,12 @@
 //   weight = spec_colour · s                   (refl.weight)
 //   kd     = 1 − s                             (the diffuse layer's share)
 //   other  = emission + kd·albedo·fill         (constant ambient from the uniform world)
-//   direct = kd·albedo/π · I·c_l · max(0, n·l) / d²    (key.direct; c_l = 1 for a sphere
-//            light, max(0, n_l·(−l)) for a disk or rect light)
-//   beauty = other + direct·shadow + weight·refl
+//   direct = kd·albedo/π · I·c_l · max(0, n·l) / d²    (<light>.direct; c_l = 1 for a sphere
+//            light, max(0, n_l·(−l)) for a disk or rect light, the cone's attenuation for a
+//            spot); a sun: kd·albedo/π · E · max(0, n·direction)
+//   beauty = other + Σ_lights direct·shadow + weight·refl
 // refl is the radiance arriving along the mirror direction: at the reflected hit
-// other + direct·shadow (one bounce: the specular layer of a surface seen in a reflection is
+// other + Σ direct·shadow (one bounce: the specular layer of a surface seen in a reflection is
 // left out), the world colour `fill` on a miss.
 #include <algorithm>
 #include <atomic>
@@ -24,6 +25,16 @@
 
 namespace isg::synth {
 using namespace detail;
+
+double spot_attenuation(const Light& spot, Vec3 dir_from_light) {
+  // Cycles: spot_smooth = 1 / ((1 − cos_half_spot_angle)·blend), smoothstepf of
+  // (cos θ − cos_half_spot_angle)·spot_smooth, clamped to [0, 1].
+  const double cos_half = std::cos(0.5 * spot.spot_angle_deg * kPi / 180);
+  const double cos_t = dot(normalize(spot.normal), dir_from_light);
+  if (spot.spot_blend <= 0) return cos_t > cos_half ? 1.0 : 0.0;
+  const double t = std::clamp((cos_t - cos_half) / ((1 - cos_half) * spot.spot_blend), 0.0, 1.0);
+  return t * t * (3 - 2 * t);
+}
 
 double disk_visible_fraction(double d, double R) {
   // Area of the circular segment beyond a chord at distance d from the centre of a disk of
@@ -76,43 +87,33 @@ double disk_irradiance_beyond_chord(Vec3 p, Vec3 n, Vec3 centre, Vec3 u, Vec3 v,
 }
 
 Image render_aovs(const Scene& s, const Options& o) {
-  Image img(o.width, o.height,
-            {"R",
-             "G",
-             "B",
-             "A",
-             "Z",
-             "P.X",
-             "P.Y",
-             "P.Z",
-             "N.X",
-             "N.Y",
-             "N.Z",
-             "roughness",
-             "key.shadow",
-             "key.occluder",
-             "key.direct.R",
-             "key.direct.G",
-             "key.direct.B",
-             "refl.R",
-             "refl.G",
-             "refl.B",
-             "refl.dist",
-             "refl.weight.R",
-             "refl.weight.G",
-             "refl.weight.B",
-             "other.R",
-             "other.G",
-             "other.B"});
+  std::vector<std::string> names = {"R",   "G",   "B",   "A",   "Z",   "P.X",
+                                    "P.Y", "P.Z", "N.X", "N.Y", "N.Z", "roughness"};
+  const int c_light = int(names.size());  // 5 channels per light from here
+  for (const Light& l : s.lights)
+    for (const char* c : {".shadow", ".occluder", ".direct.R", ".direct.G", ".direct.B"})
+      names.push_back(l.name + c);
+  const int c_refl = int(names.size());
+  for (const char* c : {"refl.R", "refl.G", "refl.B", "refl.dist", "refl.weight.R", "refl.weight.G",
+                        "refl.weight.B", "other.R", "other.G", "other.B"})
+    names.push_back(c);
+  Image img(o.width, o.height, names);
+  const size_t nl = s.lights.size();
   const CameraFrame cf = camera_frame(s.camera);
   const int n = o.aov_spp;
   parallel_rows(o.height, o.threads, [&](int y) {
+    struct PerLight {
+      Vec3 direct;
+      double direct_shadowed = 0, direct_sum = 0, occ_sum = 0;
+      int occ_n = 0;
+    };
     for (int x = 0; x < o.width; ++x) {
       Rng rng(pixel_id(x, y, o.width), 0, kAovJitter);
-      Vec3 beauty, direct, refl, weight, other, P, N;
-      double cover = 0, rough = 0, z = kBackgroundZ, direct_shadowed = 0, direct_sum = 0;
-      double occ_sum = 0, refl_dist_sum = 0;
-      int occ_n = 0, refl_n = 0;
+      Vec3 beauty, refl, weight, other, P, N;
+      double cover = 0, rough = 0, z = kBackgroundZ;
+      double refl_dist_sum = 0;
+      int refl_n = 0;
+      std::vector<PerLight> pl(nl);
       for (int i = 0; i < n; ++i) {
         const auto [fx, fy] = pixel_position(x, y, i, n, rng);
         const Ray r = pinhole_ray(cf, fx, fy);
@@ -121,16 +122,19 @@ Image render_aovs(const Scene& s, const Options& o) {
         if (i == 0) z = float(dot(pr.h.p - cf.pos, cf.f));  // Z: the first sample
         cover += 1;
         beauty += pr.beauty;
-        direct += pr.hs.direct;
         refl += pr.refl;
         weight += pr.sf.weight;
         other += pr.sf.other;
         P += pr.h.p;
         N += pr.sf.n;
         rough += pr.sf.m->roughness;
-        direct_sum += luminance(pr.hs.direct);
-        direct_shadowed += luminance(pr.hs.direct) * pr.hs.shadow;
-        if (pr.hs.occluder > 0) occ_sum += pr.hs.occluder, ++occ_n;
+        for (size_t k = 0; k < nl; ++k) {
+          const Hard& hs = pr.hs[k];
+          pl[k].direct += hs.direct;
+          pl[k].direct_sum += luminance(hs.direct);
+          pl[k].direct_shadowed += luminance(hs.direct) * hs.shadow;
+          if (hs.occluder > 0) pl[k].occ_sum += hs.occluder, ++pl[k].occ_n;
+        }
         if (pr.refl_dist > 0 && luminance(pr.sf.weight) > 0)
           refl_dist_sum += pr.refl_dist, ++refl_n;
       }
@@ -143,48 +147,65 @@ Image render_aovs(const Scene& s, const Options& o) {
         put3(img, x, y, 8, length(N) > 0 ? normalize(N) : N);
         img.at(x, y, 11) = float(rough / cover);
       }
-      img.at(x, y, 12) = float(direct_sum > 1e-12 ? direct_shadowed / direct_sum : 1.0);
-      img.at(x, y, 13) = float(occ_n ? occ_sum / occ_n : 0);
-      put3(img, x, y, 14, direct * inv);
-      put3(img, x, y, 17, refl * inv);
-      img.at(x, y, 20) = float(refl_n ? refl_dist_sum / refl_n : 0);
-      put3(img, x, y, 21, weight * inv);
-      put3(img, x, y, 24, other * inv);
+      for (size_t k = 0; k < nl; ++k) {
+        const int c = c_light + 5 * int(k);
+        const PerLight& p = pl[k];
+        img.at(x, y, c) = float(p.direct_sum > 1e-12 ? p.direct_shadowed / p.direct_sum : 1.0);
+        img.at(x, y, c + 1) = float(p.occ_n ? p.occ_sum / p.occ_n : 0);
+        put3(img, x, y, c + 2, p.direct * inv);
+      }
+      put3(img, x, y, c_refl, refl * inv);
+      img.at(x, y, c_refl + 3) = float(refl_n ? refl_dist_sum / refl_n : 0);
+      put3(img, x, y, c_refl + 4, weight * inv);
+      put3(img, x, y, c_refl + 7, other * inv);
     }
   });
   return img;
 }
 
-Image render_shadowmap(const Scene& s, int size) {
+Image render_shadowmap(const Scene& s, int size, size_t light) {
   Image img(size, size, {"Z"});
-  const auto m = world_to_light(s);
+  const ShadowMapView view = shadowmap_view(s, light);
+  const auto& m = view.world_to_light;
   CameraFrame cf;
-  cf.pos = s.key.position;
   cf.r = {m[0], m[1], m[2]};
   cf.u = {m[4], m[5], m[6]};
   cf.f = {-m[8], -m[9], -m[10]};
-  cf.tan_x = cf.tan_y = 1;  // 90° square
+  // The map camera's position from the view matrix's translation column: −Rᵀ·t.
+  cf.pos = (cf.r * m[3] + cf.u * m[7] - cf.f * m[11]) * -1.0;
+  if (s.lights[light].type != Light::Type::sun) cf.pos = s.lights[light].position;
+  // 90°: exactly 1 (tan(π/4) rounds below it).
+  cf.tan_x = cf.tan_y = view.yfov_deg == 90 ? 1.0 : std::tan(0.5 * view.yfov_deg * kPi / 180);
   cf.w = cf.h = size;
   parallel_rows(size, 0, [&](int y) {
     for (int x = 0; x < size; ++x) {
-      const Ray r = pinhole_ray(cf, x + 0.5, y + 0.5);
+      Ray r;
+      if (view.orthographic) {
+        // Parallel rays down the axis from the map camera's plane, over width_m × height_m.
+        const double sx = (2 * (x + 0.5) / size - 1) * 0.5 * view.width_m;
+        const double sy = (1 - 2 * (y + 0.5) / size) * 0.5 * view.height_m;
+        r = {cf.pos + cf.r * sx + cf.u * sy, cf.f};
+      } else {
+        r = pinhole_ray(cf, x + 0.5, y + 0.5);
+      }
       const Hit h = trace(s, r);
-      img.at(x, y, 0) = h.prim < 0 ? kBackgroundZ : float(dot(h.p - cf.pos, cf.f));
+      img.at(x, y, 0) = h.prim < 0 ? kBackgroundZ : float(dot(h.p - r.o, cf.f));
     }
   });
   return img;
 }
 
-Image render_softshadow(const Scene& s, const Options& o, int spp) {
-  Image img(o.width, o.height, {"key.softshadow"});
+Image render_softshadow(const Scene& s, const Options& o, int spp, size_t light) {
+  const Light& l = s.lights.at(light);
+  Image img(o.width, o.height, {l.name + ".softshadow"});
   const CameraFrame cf = camera_frame(s.camera);
   parallel_rows(o.height, o.threads, [&](int y) {
     for (int x = 0; x < o.width; ++x) {
       const uint64_t id = pixel_id(x, y, o.width);
       Rng jitter(id, 0, kAovJitter);  // the AOVs' pixel samples, cycled
       // Σ direct·visible / Σ direct over the pixel's samples, each light sample's direct light
-      // (area_direct) with its visibility: the luminance ratio of soft to unshadowed key that the
-      // Cycles cases' references are, i.e. the visible fraction of the light weighted by the
+      // (area_direct) with its visibility: the luminance ratio of soft to unshadowed light that
+      // the Cycles cases' references are, i.e. the visible fraction of the light weighted by the
       // irradiance each of its points gives (under a low light its top outweighs its bottom).
       double num = 0, den = 0;
       const int n_pos = o.aov_spp;
@@ -196,14 +217,14 @@ Image render_softshadow(const Scene& s, const Options& o, int spp) {
         const Hit h = trace(s, r);
         if (h.prim < 0) continue;
         const Surface sf = surface(s, h, r.d);
-        Rng rng(id, uint64_t(i), kLight);
+        Rng rng(id, uint64_t(i), light_purpose(light));
         const auto [u, v] = stratified(i, spp, rng, o.stratified);
-        const Vec3 q = sample_light(s.key, sf.p, u, v);
-        const double w = luminance(area_direct(s, sf, q));
-        if (w > 0 && !occluded(s, sf.p, sf.n, sf.prim, q)) num += w;
+        const LightSample ls = sample_light_direct(l, sf, u, v);
+        const double w = luminance(ls.direct);
+        if (w > 0 && visible(s, sf, ls)) num += w;
         den += w;
       }
-      // 1 where the key does not light the surface (facing away) or on the background, as
+      // 1 where the light does not reach the surface (facing away) or on the background, as
       // the luminance ratio of cases/ gives.
       double value = 1;
       if (den > 1e-12) value = num / den;
@@ -214,12 +235,13 @@ Image render_softshadow(const Scene& s, const Options& o, int spp) {
 }
 
 Image render_softshadow_closed_form(const Scene& s, const Options& o) {
-  if (!s.parallel_planes || s.key.type != Light::Type::disk)
+  if (!s.parallel_planes || s.lights.front().type != Light::Type::disk)
     throw std::runtime_error("scene: the closed form needs the parallel-planes scene");
   const ParallelPlanes pp = *s.parallel_planes;
-  Image img(o.width, o.height, {"key.softshadow"});
+  const Light& key = s.lights.front();
+  Image img(o.width, o.height, {key.name + ".softshadow"});
   const CameraFrame cf = camera_frame(s.camera);
-  const double hl = s.key.position.z - pp.receiver_z, ho = pp.occluder_z - pp.receiver_z;
+  const double hl = key.position.z - pp.receiver_z, ho = pp.occluder_z - pp.receiver_z;
   parallel_rows(o.height, o.threads, [&](int y) {
     for (int x = 0; x < o.width; ++x) {
       const Hit h = trace(s, pinhole_ray(cf, x + 0.5, y + 0.5));
@@ -232,8 +254,8 @@ Image render_softshadow_closed_form(const Scene& s, const Options& o) {
         const double zl = hl - (h.p.z - pp.receiver_z), zo = ho - (h.p.z - pp.receiver_z);
         const double x_line = h.p.x + (pp.edge_x - h.p.x) * zl / zo;
         // The visible part's share of the irradiance (as render_softshadow weighs it).
-        value = disk_irradiance_beyond_chord(h.p, {0, 0, 1}, s.key.position, {1, 0, 0}, {0, 1, 0}, s.key.radius,
-                                             x_line - s.key.position.x);
+        value = disk_irradiance_beyond_chord(h.p, {0, 0, 1}, key.position, {1, 0, 0}, {0, 1, 0},
+                                             key.radius, x_line - key.position.x);
       }
       img.at(x, y, 0) = float(value);
     }
@@ -304,6 +326,12 @@ Image render_lens(const Scene& s, const Options& o, int spp, bool full, bool len
       const std::vector<int> lens_perm = permutation(id, kLens, spp);
       const std::vector<int> light_perm = permutation(id, kLight, spp);
       const std::vector<int> gloss_perm = permutation(id, kGlossy, spp);
+      // Lights after the first: their own permutations and streams (the first keeps the
+      // one-light scenes' samples).
+      std::vector<std::vector<int>> more_perm;
+      if (full)
+        for (size_t k = 1; k < s.lights.size(); ++k)
+          more_perm.push_back(permutation(id, light_purpose(k), spp));
       for (int i = 0; i < spp; ++i) {
         Rng rng(id, uint64_t(i), full ? kBeauty : kLens);
         // The pixel box and the lens, each stratified when spp is a square.
@@ -322,11 +350,15 @@ Image render_lens(const Scene& s, const Options& o, int spp, bool full, bool len
         cover += 1;
         const Surface sf = surface(s, h, r.d);
         Vec3 c = sf.other;
-        // Soft key: one stratified light sample.
-        const auto [u, v] = stratified(light_perm[size_t(i)], spp, rng, o.stratified);
-        const Vec3 q = sample_light(s.key, sf.p, u, v);
-        const Vec3 d = area_direct(s, sf, q);
-        if (luminance(d) > 0 && !occluded(s, sf.p, sf.n, sf.prim, q)) c += d;
+        // Soft lights: one stratified light sample each.
+        for (size_t k = 0; k < s.lights.size(); ++k) {
+          Rng own(id, uint64_t(i), light_purpose(k));
+          Rng& lr = k == 0 ? rng : own;
+          const int stratum = k == 0 ? light_perm[size_t(i)] : more_perm[k - 1][size_t(i)];
+          const auto [u, v] = stratified(stratum, spp, lr, o.stratified);
+          const LightSample ls = sample_light_direct(s.lights[k], sf, u, v);
+          if (luminance(ls.direct) > 0 && visible(s, sf, ls)) c += ls.direct;
+        }
         // Glossy: one GGX sample, normalised by E[G2/G1] as in the glossy reference.
         if (luminance(sf.weight) > 0) {
           const auto [g1, g2] = stratified(gloss_perm[size_t(i)], spp, rng, o.stratified);
@@ -355,10 +387,10 @@ Image render_beauty_ref(const Scene& s, const Options& o, int spp) {
   return render_lens(s, o, spp, true, s.depth_of_field);
 }
 
-void add_mask(Image& ref, const Image& aovs, MaskKind kind) {
+void add_mask(Image& ref, const Image& aovs, MaskKind kind, const std::string& light) {
   const size_t old_nc = ref.channels.size(), nc = old_nc + 1;
   std::vector<float> px(size_t(ref.width) * ref.height * nc);
-  const int a = aovs.channel("A"), z = aovs.channel("Z"), d = aovs.channel("key.direct.R"),
+  const int a = aovs.channel("A"), z = aovs.channel("Z"), d = aovs.channel(light + ".direct.R"),
             w = aovs.channel("refl.weight.R");
   auto lum = [&](int x, int y, int c) {
     return luminance({aovs.at(x, y, c), aovs.at(x, y, c + 1), aovs.at(x, y, c + 2)});

@@ -1,5 +1,6 @@
 // The built-in scenes, option validation and the camera/light matrices.
 #include <algorithm>
+#include <limits>
 #include <map>
 #include <numbers>
 #include <stdexcept>
@@ -8,6 +9,8 @@
 
 namespace isg::synth {
 namespace {
+
+constexpr double kDeg = std::numbers::pi / 180;
 
 struct Builder {
   Scene s;
@@ -58,8 +61,14 @@ Scene contact(int frame) {
   b.cylinder("cylinder2", {0.05, -0.6, 0.8}, 0.04, 1.6, b.material(diffuse({0.8, 0.8, 0.75})));
   // Cycles' 1100 W point light: intensity 1100/(4π) W/sr.
   const double watts = 1100.0 / (4 * std::numbers::pi);
-  b.s.key = {Light::Type::sphere,  {2.6, -1.2, 4.6}, 0.4, {0, 0, -1}, {1, 0, 0}, 1, 1,
-             {watts, watts, watts}};
+  b.s.lights = {{Light::Type::sphere,
+                 {2.6, -1.2, 4.6},
+                 0.4,
+                 {0, 0, -1},
+                 {1, 0, 0},
+                 1,
+                 1,
+                 {watts, watts, watts}}};
   b.camera({0.4, -6.4, 3.1}, {0.0, 0.3, 0.35}, 40, 2.8);
   return b.s;
 }
@@ -73,7 +82,8 @@ Scene parallel_planes(int frame) {
   const double edge = 0.05 * frame;  // the occluder's edge slides along +X
   b.quad("occluder", {edge - 4.0, 0, 1.2}, {4.0, 0, 0}, {0, 6.0, 0},
          b.material(diffuse({0.3, 0.5, 0.3})));
-  b.s.key = {Light::Type::disk, {-1.0, 0, 4.0}, 1.0, {0, 0, -1}, {1, 0, 0}, 1, 1, {60, 60, 60}};
+  b.s.lights = {
+      {Light::Type::disk, {-1.0, 0, 4.0}, 1.0, {0, 0, -1}, {1, 0, 0}, 1, 1, {60, 60, 60}}};
   b.s.parallel_planes = ParallelPlanes{0.0, 1.2, edge};
   b.camera({3.0, -5.0, 3.0}, {0.4, 0, 0.3}, 35, 2.8);
   return b.s;
@@ -90,14 +100,14 @@ Scene stack(int frame) {
   b.box("high", {0.9, -0.2, 1.8}, {0.5, 0.7, 0.06}, b.material(diffuse({0.3, 0.4, 0.75})));
   b.cylinder("post", {0.0, 0.0, 0.43}, 0.03, 0.86, b.material(diffuse({0.8, 0.8, 0.75})));
   b.sphere("ball", {1.3, 0.9, 0.3}, 0.3, b.material(diffuse({0.8, 0.7, 0.3})));
-  b.s.key = {Light::Type::rect,
-             {0.8, -0.3, 4.0},
-             0.5,
-             normalize(Vec3{-0.15, 0.05, -1}),
-             normalize(Vec3{1, 0, -0.15}),
-             0.9,
-             0.6,
-             {70, 70, 70}};
+  b.s.lights = {{Light::Type::rect,
+                 {0.8, -0.3, 4.0},
+                 0.5,
+                 normalize(Vec3{-0.15, 0.05, -1}),
+                 normalize(Vec3{1, 0, -0.15}),
+                 0.9,
+                 0.6,
+                 {70, 70, 70}}};
   b.camera({1.0, -6.0, 3.6}, {0.2, 0.1, 0.4}, 38, 2.8);
   return b.s;
 }
@@ -117,8 +127,8 @@ Scene gloss(int frame) {
   b.box("box_low", {0.2, -0.3, 0.35}, {0.5, 0.5, 0.3}, b.material(diffuse({0.25, 0.45, 0.8})));
   b.cylinder("pillar", {-0.3, 1.8, 0.9}, 0.15, 1.8, b.material(diffuse({0.85, 0.85, 0.8})));
   b.box("back_wall", {0.0, 4.0, 1.5}, {10, 0.2, 3}, b.material(diffuse({0.7, 0.65, 0.55})));
-  b.s.key = {Light::Type::sphere, {-2.0, -1.5, 4.5}, 0.4, {0, 0, -1}, {1, 0, 0}, 1, 1,
-             {70, 70, 70}};
+  b.s.lights = {
+      {Light::Type::sphere, {-2.0, -1.5, 4.5}, 0.4, {0, 0, -1}, {1, 0, 0}, 1, 1, {70, 70, 70}}};
   b.s.fill = {0.12, 0.13, 0.15};
   b.camera({0.3, -6.0, 2.2}, {0.0, 0.8, 0.5}, 35, 2.8);
   return b.s;
@@ -141,14 +151,16 @@ Scene dof(int frame) {
     b.sphere("lamp" + std::to_string(i), {-2.0 + 1.1 * i, 8.3 - 0.2 * i, 0.6 + 0.25 * (i % 3)},
              0.05, b.material(lamp));
   }
-  b.s.key = {Light::Type::sphere, {2.5, -2.0, 5.0}, 0.4, {0, 0, -1}, {1, 0, 0}, 1, 1, {90, 90, 90}};
+  b.s.lights = {
+      {Light::Type::sphere, {2.5, -2.0, 5.0}, 0.4, {0, 0, -1}, {1, 0, 0}, 1, 1, {90, 90, 90}}};
   b.camera({0.0, -6.0, 1.0}, {0.1, 0.0, 0.5}, 85, 1.4);
   return b.s;
 }
 
 void translate(Scene& s, Vec3 t) {
   for (auto& p : s.prims) p.centre += t;
-  s.key.position += t;
+  for (auto& l : s.lights)
+    if (l.type != Light::Type::sun) l.position += t;
   s.camera.position += t;
   s.camera.target += t;
 }
@@ -193,6 +205,64 @@ Scene depth_range(int frame) {
   return b.s;
 }
 
+// A low sun (30° elevation, from the front right) with a 2.5° disk: penumbrae widen 4.4 cm per
+// metre from the occluder. Irradiance 3.5 W/m² facing it, about contact's key on the floor.
+Light sun_light(double irradiance) {
+  Light l;
+  l.type = Light::Type::sun;
+  l.name = "sun";
+  const double elevation = 30 * kDeg, azimuth = -45 * kDeg;
+  l.direction = normalize(Vec3{std::cos(elevation) * std::cos(azimuth),
+                               std::cos(elevation) * std::sin(azimuth), std::sin(elevation)});
+  l.angle_deg = 2.5;
+  l.intensity = {irradiance, irradiance, irradiance};
+  return l;
+}
+
+// contact's geometry, materials and camera under the sun alone.
+Scene sun(int frame) {
+  Scene s = contact(frame);
+  s.name = "sun";
+  s.lights = {sun_light(3.5)};
+  return s;
+}
+
+// contact's geometry under a spot (r = 0.3, 60° cone, blend 0.3) above and to the right, aimed
+// at the floor behind the objects so that the cone's soft edge crosses the floor in frame.
+Scene spot(int frame) {
+  Scene s = contact(frame);
+  s.name = "spot";
+  Light l;
+  l.type = Light::Type::spot;
+  l.name = "spot";
+  l.position = {2.0, -1.5, 3.5};
+  l.normal = normalize(Vec3{-0.3, 0.6, 0} - l.position);
+  l.radius = 0.3;
+  l.spot_angle_deg = 60;
+  l.spot_blend = 0.3;
+  l.intensity = {80, 80, 80};
+  s.lights = {l};
+  return s;
+}
+
+// contact's key, a weaker sun and a rect fill from the front left.
+Scene three_lights(int frame) {
+  Scene s = contact(frame);
+  s.name = "three-lights";
+  Light fill;
+  fill.type = Light::Type::rect;
+  fill.name = "fill";
+  fill.position = {-3.0, -2.5, 2.5};
+  fill.normal = normalize(Vec3{0.0, 0.3, 0.35} - fill.position);
+  fill.u_axis = normalize(cross(Vec3{0, 0, 1}, fill.normal));
+  fill.size_u = 1.5;
+  fill.size_v = 1.0;
+  fill.intensity = {25, 25, 25};
+  s.lights.push_back(sun_light(1.2));
+  s.lights.push_back(fill);
+  return s;
+}
+
 using Maker = Scene (*)(int);
 struct Entry {
   Maker make;
@@ -212,6 +282,10 @@ const std::map<std::string, Entry>& registry() {
       {"far-world-1e6", {far_world_1e6, "contact translated by (1e6, 1e6, 1e6)"}},
       {"grazing", {grazing, "contact seen from 0.55 m above the floor (75-89 deg to its normal)"}},
       {"depth-range", {depth_range, "contact before a backdrop 1e6 m away (depth 1.5 to 1e6 m)"}},
+      {"sun", {sun, "contact under a low sun (30 deg elevation, 2.5 deg disk), light 'sun'"}},
+      {"spot",
+       {spot, "contact under a spot (60 deg cone, blend 0.3) whose edge crosses the floor"}},
+      {"three-lights", {three_lights, "contact lit by its key, a weaker sun and a rect fill"}},
   };
   return r;
 }
@@ -220,9 +294,9 @@ void check(bool ok, const std::string& message) {
   if (!ok) throw std::runtime_error(message);
 }
 
-// Row-major look-at, camera looking down −Z with +Y up; world +Z up unless looking along it.
-std::array<double, 16> look_at(Vec3 pos, Vec3 target) {
-  const Vec3 f = normalize(target - pos);
+// Row-major view matrix from `pos` looking along unit `f`, with +Y up; world +Z up unless
+// looking along it.
+std::array<double, 16> look_along(Vec3 pos, Vec3 f) {
   Vec3 up{0, 0, 1};
   if (std::abs(dot(f, up)) > 0.999) up = {0, 1, 0};
   const Vec3 r = normalize(cross(f, up));
@@ -231,12 +305,32 @@ std::array<double, 16> look_at(Vec3 pos, Vec3 target) {
           -f.x, -f.y, -f.z, dot(f, pos),  0,   0,   0,   1};
 }
 
+std::array<double, 16> look_at(Vec3 pos, Vec3 target) {
+  return look_along(pos, normalize(target - pos));
+}
+
+// The corners of a primitive's bounding box (a quad's four corners).
+template <class F>
+void for_each_corner(const Primitive& p, F&& f) {
+  if (p.kind == Primitive::Kind::quad) {
+    for (double a : {-1.0, 1.0})
+      for (double b : {-1.0, 1.0}) f(p.centre + a * p.u + b * p.v);
+    return;
+  }
+  Vec3 h = p.half;
+  if (p.kind == Primitive::Kind::sphere) h = {p.radius, p.radius, p.radius};
+  if (p.kind == Primitive::Kind::cylinder) h = {p.radius, p.radius, p.half.z};
+  for (double a : {-1.0, 1.0})
+    for (double b : {-1.0, 1.0})
+      for (double c : {-1.0, 1.0}) f(p.centre + Vec3{a * h.x, b * h.y, c * h.z});
+}
+
 }  // namespace
 
 std::vector<std::string> scene_names() {
   // Presentation order rather than alphabetical.
-  return {"parallel-planes", "contact", "stack", "gloss", "dof", "far-world", "far-world-1e6", "grazing",
-          "depth-range"};
+  return {"parallel-planes", "contact", "stack",       "gloss", "dof",  "far-world",
+          "far-world-1e6",   "grazing", "depth-range", "sun",   "spot", "three-lights"};
 }
 
 std::string scene_description(const std::string& name) {
@@ -265,6 +359,10 @@ void validate(const Options& o) {
     check(std::isfinite(*o.light_radius) && *o.light_radius > 0,
           "--light-radius must be > 0 (got " + std::to_string(*o.light_radius) + ")");
   }
+  if (o.sun_angle) {
+    check(std::isfinite(*o.sun_angle) && *o.sun_angle > 0 && *o.sun_angle <= 90,
+          "--sun-angle must be in (0, 90] degrees (got " + std::to_string(*o.sun_angle) + ")");
+  }
   if (o.roughness) range("--roughness", *o.roughness, 0, 1);
   if (o.fstop) {
     check(std::isfinite(*o.fstop) && *o.fstop > 0,
@@ -278,12 +376,24 @@ Scene build_scene(const Options& o) {
   s.camera.width = o.width;
   s.camera.height = o.height;
   if (o.light_radius) {
-    if (s.key.type == Light::Type::rect) {
-      const double aspect = s.key.size_v / s.key.size_u;
-      s.key.size_u = 2 * *o.light_radius;
-      s.key.size_v = s.key.size_u * aspect;
+    Light& l = s.lights.front();
+    check(l.type != Light::Type::sun, "--light-radius: the first light of scene '" + o.scene +
+                                          "' is a sun, which has an angle (--sun-angle)");
+    if (l.type == Light::Type::rect) {
+      const double aspect = l.size_v / l.size_u;
+      l.size_u = 2 * *o.light_radius;
+      l.size_v = l.size_u * aspect;
     }
-    s.key.radius = *o.light_radius;
+    l.radius = *o.light_radius;
+  }
+  if (o.sun_angle) {
+    bool any = false;
+    for (auto& l : s.lights) {
+      if (l.type != Light::Type::sun) continue;
+      l.angle_deg = *o.sun_angle;
+      any = true;
+    }
+    check(any, "--sun-angle: scene '" + o.scene + "' has no sun light");
   }
   if (o.roughness) {
     for (auto& m : s.materials) {
@@ -301,8 +411,36 @@ std::array<double, 16> world_to_camera(const Camera& cam) {
   return look_at(cam.position, cam.target);
 }
 
-std::array<double, 16> world_to_light(const Scene& s) {
-  return look_at(s.key.position, s.camera.target);
+ShadowMapView shadowmap_view(const Scene& s, size_t light) {
+  const Light& l = s.lights.at(light);
+  ShadowMapView v;
+  switch (l.type) {
+    case Light::Type::sun: {
+      // From beyond the bounding sphere on the sun's side, looking down −direction: the map
+      // camera's −Z axis is −direction and the sphere lies between near and far.
+      const auto [c, r] = bounding_sphere(s);
+      const double margin = 0.05 * r + 1e-3;
+      v.world_to_light = look_along(c + l.direction * (r + margin), -l.direction);
+      v.orthographic = true;
+      v.width_m = v.height_m = 2 * r * 1.02;
+      v.near = 0;
+      v.far = 2 * (r + margin);
+      break;
+    }
+    case Light::Type::spot:
+      v.world_to_light = look_along(l.position, normalize(l.normal));
+      // 90° unless the cone is wider.
+      v.yfov_deg = l.spot_angle_deg <= 80 ? 90.0 : std::min(l.spot_angle_deg + 10, 170.0);
+      break;
+    default:
+      v.world_to_light = look_at(l.position, s.camera.target);
+      break;
+  }
+  return v;
+}
+
+std::array<double, 16> world_to_light(const Scene& s, size_t light) {
+  return shadowmap_view(s, light).world_to_light;
 }
 
 double yfov_deg(const Camera& cam) {
@@ -327,25 +465,34 @@ std::array<double, 16> world_to_ndc(const Camera& cam) {
 }
 
 double scene_radius(const Scene& s) {
-  // Farthest of: the key, every primitive's bounding-box corners.
+  // Farthest of: every light with a position, every primitive's bounding-box corners.
   const Vec3 c = s.camera.target;
-  double r = length(s.key.position - c);
+  double r = 0;
+  for (const auto& l : s.lights)
+    if (l.type != Light::Type::sun) r = std::max(r, length(l.position - c));
   for (const auto& p : s.prims) {
     if (p.backdrop) continue;
-    Vec3 h = p.half;
-    if (p.kind == Primitive::Kind::sphere) h = {p.radius, p.radius, p.radius};
-    if (p.kind == Primitive::Kind::cylinder) h = {p.radius, p.radius, p.half.z};
-    if (p.kind == Primitive::Kind::quad) {
-      for (double a : {-1.0, 1.0})
-        for (double b2 : {-1.0, 1.0}) r = std::max(r, length(p.centre + a * p.u + b2 * p.v - c));
-      continue;
-    }
-    for (double a : {-1.0, 1.0})
-      for (double b2 : {-1.0, 1.0})
-        for (double c2 : {-1.0, 1.0})
-          r = std::max(r, length(p.centre + Vec3{a * h.x, b2 * h.y, c2 * h.z} - c));
+    for_each_corner(p, [&](Vec3 q) { r = std::max(r, length(q - c)); });
   }
   return r;
+}
+
+std::pair<Vec3, double> bounding_sphere(const Scene& s) {
+  constexpr double inf = std::numeric_limits<double>::infinity();
+  Vec3 lo{inf, inf, inf}, hi = -lo;
+  auto each = [&](auto&& f) {
+    for (const auto& p : s.prims)
+      if (!p.backdrop) for_each_corner(p, f);
+  };
+  each([&](Vec3 q) {
+    lo = {std::min(lo.x, q.x), std::min(lo.y, q.y), std::min(lo.z, q.z)};
+    hi = {std::max(hi.x, q.x), std::max(hi.y, q.y), std::max(hi.z, q.z)};
+  });
+  if (lo.x > hi.x) return {s.camera.target, 1.0};  // no primitives
+  const Vec3 c = (lo + hi) * 0.5;
+  double r = 0;
+  each([&](Vec3 q) { r = std::max(r, length(q - c)); });
+  return {c, r};
 }
 
 Image::Image(int w, int h, std::vector<std::string> names)

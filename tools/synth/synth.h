@@ -57,19 +57,32 @@ struct Primitive {
   bool backdrop = false;  // far background: left out of scene_radius (the set's scale, not the sky's)
 };
 
-// lights[0] "key". For the AOVs it is a point at `position`: isotropic intensity for a sphere
-// light, intensity × max(0, cos to `normal`) for disk and rect lights (a Lambertian emitter
-// shrunk to a point), so the area light of the references, radiance intensity / area, has the
-// same total power and gives an unoccluded point the same key.direct up to (r/d)².
+// A named light; its AOVs are `<name>.shadow`, `<name>.occluder`, `<name>.direct.R/G/B`.
+// For the AOVs a sphere, disk, rect or spot light is a point at `position`: isotropic intensity
+// for a sphere light, intensity × max(0, cos to `normal`) for disk and rect lights (a Lambertian
+// emitter shrunk to a point), so the area light of the references, radiance intensity / area, has
+// the same total power and gives an unoccluded point the same direct light up to (r/d)². A spot
+// is a sphere light's isotropic intensity shaped by Blender's cone (spot_attenuation). A sun is
+// distant: irradiance × cos along `direction`, its disk `angle_deg` wide in the references.
 struct Light {
-  enum class Type { sphere, disk, rect } type = Type::sphere;
-  Vec3 position;
-  double radius = 0.3;            // sphere, disk
-  Vec3 normal{0, 0, -1};          // disk, rect: the emitting side
+  enum class Type { sphere, disk, rect, spot, sun } type = Type::sphere;
+  Vec3 position;                  // every type but sun
+  double radius = 0.3;            // sphere, disk, spot
+  Vec3 normal{0, 0, -1};          // disk, rect: the emitting side; spot: the way it shines
   Vec3 u_axis{1, 0, 0};           // rect
   double size_u = 1, size_v = 1;  // rect
-  Vec3 intensity{50, 50, 50};     // W/sr along the normal (isotropic for a sphere)
+  Vec3 intensity{50, 50, 50};     // W/sr along the normal (isotropic: sphere; on the axis: spot);
+                                  // sun: irradiance, W/m² on a surface facing it
+  std::string name = "key";
+  double spot_angle_deg = 60;  // spot: the cone's full angle (Blender's spot size)
+  double spot_blend = 0.15;    // spot: 0 to 1 (Blender's blend)
+  Vec3 direction{0, 0, 1};     // sun: unit, from the scene toward the sun
+  double angle_deg = 0.53;     // sun: the full angle its disk subtends
 };
+
+// Blender/Cycles' spot cone (kernel/light/spot.h, scene/light.cpp): smoothstep((cos θ −
+// cos(size/2)) / ((1 − cos(size/2))·blend)), θ from the axis; blend 0: a hard edge.
+double spot_attenuation(const Light& spot, Vec3 dir_from_light);
 
 struct Camera {
   Vec3 position, target;
@@ -89,7 +102,8 @@ struct Scene {
   std::string name;
   std::vector<Material> materials;
   std::vector<Primitive> prims;
-  Light key;
+  // Names unique; lights[0] is "key" in every scene but sun and spot.
+  std::vector<Light> lights;
   Camera camera;
   Vec3 fill{0.07, 0.075, 0.085};  // uniform world: ambient = kd·albedo·fill, reflection misses
   bool depth_of_field = false;    // the beauty reference uses the thin lens
@@ -101,7 +115,8 @@ struct Options {
   int width = 640, height = 360;
   int aov_spp = 1;    // 1: pixel centres; N: box-filtered average of N stratified samples
   int ref_spp = 256;  // samples per pixel of every reference
-  std::optional<double> light_radius;  // overrides the scene's (rect: half the u size)
+  std::optional<double> light_radius;  // overrides the first light's (rect: half the u size)
+  std::optional<double> sun_angle;     // overrides every sun's angle_deg
   std::optional<double> roughness;     // overrides every glossy surface's roughness
   std::optional<double> fstop;         // overrides the scene's; turns on DOF in ref/beauty.exr
   int frame = 0;                       // moves the scene's moving object
@@ -133,22 +148,37 @@ Scene build_scene(const Options& opts);  // validates, applies overrides and --f
 // Camera and light matrices, row-major, column-vector convention (p_cam = M · p_world), as in
 // scene.json. Cameras look down −Z with +Y up.
 std::array<double, 16> world_to_camera(const Camera& cam);
-std::array<double, 16> world_to_light(const Scene& scene);
+// A light's shadow map: perspective from `position` (sphere, disk, rect: toward the camera's
+// target, 90°; spot: down its axis), or orthographic for a sun (looking down −Z along
+// −direction from beyond the scene's bounding sphere, covering it).
+struct ShadowMapView {
+  std::array<double, 16> world_to_light;
+  bool orthographic = false;
+  double yfov_deg = 90;              // perspective
+  double width_m = 0, height_m = 0;  // orthographic
+  double near = 0.05, far = 100;
+};
+ShadowMapView shadowmap_view(const Scene& scene, size_t light = 0);
+std::array<double, 16> world_to_light(const Scene& scene, size_t light = 0);
 // OpenGL-style projection (x, y in [−1, 1] over the image, +y up; z −1 at near, +1 at far) ·
 // world_to_camera.
 std::array<double, 16> world_to_ndc(const Camera& cam);
 double yfov_deg(const Camera& cam);
 double scene_radius(const Scene& scene);
+// The bounding sphere of the non-backdrop primitives (their bounding boxes' corners).
+std::pair<Vec3, double> bounding_sphere(const Scene& scene);
 
 // In-memory renders (threads from opts.threads; results do not depend on it).
-// render_aovs: the contract's channels plus `other.R/G/B` (emission + ambient, the part of
-// beauty outside key.direct·key.shadow + refl.weight·refl), which generate() does not write.
+// render_aovs: the contract's channels, `<name>.shadow/occluder/direct.R/G/B` for each light in
+// order, plus `other.R/G/B` (emission + ambient, the part of beauty outside
+// Σ direct·shadow + refl.weight·refl), which generate() does not write.
 Image render_aovs(const Scene& scene, const Options& opts);
-Image render_shadowmap(const Scene& scene, int size);  // channel Z
-// key.softshadow: the luminance ratio of the soft key to the unshadowed one, `spp` light samples
-// per pixel over the light's area (sphere: the disk of its radius facing the point): the visible
-// fraction of the light weighted by the irradiance each of its points gives.
-Image render_softshadow(const Scene& scene, const Options& opts, int spp);
+Image render_shadowmap(const Scene& scene, int size, size_t light = 0);  // channel Z
+// <name>.softshadow of lights[light]: the luminance ratio of the soft light to the unshadowed
+// one, `spp` light samples per pixel over the light's area (sphere: the disk of its radius facing
+// the point; sun: directions over its disk): the visible fraction of the light weighted by the
+// irradiance each of its points gives.
+Image render_softshadow(const Scene& scene, const Options& opts, int spp, size_t light = 0);
 // key.softshadow from the closed form (parallel-planes only; throws otherwise).
 Image render_softshadow_closed_form(const Scene& scene, const Options& opts);
 // Closed form: the fraction of a disk of radius R beyond a chord at signed distance d from its
@@ -164,16 +194,17 @@ Image render_glossy(const Scene& scene, const Options& opts, int spp);      // r
 Image render_dof(const Scene& scene, const Options& opts, int spp);         // R G B A
 Image render_beauty_ref(const Scene& scene, const Options& opts, int spp);  // R G B A
 
-// Adds `mask` to a reference: the softshadow mask (foreground, key.direct luminance ≥ 2 % of
+// Adds `mask` to a reference: the softshadow mask (foreground, <light>.direct luminance ≥ 2 % of
 // its 99th percentile), the glossy mask (refl.weight > 0) or the foreground (A > 0.5).
 enum class MaskKind { softshadow, glossy, foreground };
-void add_mask(Image& ref, const Image& aovs, MaskKind kind);
+void add_mask(Image& ref, const Image& aovs, MaskKind kind, const std::string& light = "key");
 
 struct Timing {
   std::string file;
   double seconds = 0;
 };
-// Writes aovs.exr, shadowmap_key.exr, scene.json and (opts.refs) ref/*.exr into out_dir.
+// Writes aovs.exr, shadowmap_<light>.exr for each light, scene.json and (opts.refs) ref/*.exr
+// into out_dir.
 std::vector<Timing> generate(const Options& opts, const std::filesystem::path& out_dir);
 
 }  // namespace isg::synth

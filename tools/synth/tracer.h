@@ -23,6 +23,8 @@ constexpr float kBackgroundZ = 1e10f;
 // ---- random numbers: a counter-based stream per (pixel, sample, purpose) ----
 
 enum Purpose : uint64_t { kAovJitter = 1, kLight = 2, kGlossy = 3, kLens = 4, kBeauty = 5 };
+// lights[0] samples with kLight (so one-light scenes keep their images), lights[k] with 16 + k.
+inline uint64_t light_purpose(size_t light) { return light == 0 ? kLight : 16 + uint64_t(light); }
 
 uint64_t mix64(uint64_t z) {  // splitmix64's finaliser
   z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ull;
@@ -253,6 +255,15 @@ inline bool occluded(const Scene& s, Vec3 p, Vec3 n, int prim, Vec3 q, double* d
   return true;
 }
 
+// Toward a distant light along unit `dir`: anything in the way occludes.
+inline bool occluded_along(const Scene& s, Vec3 p, Vec3 n, int prim, Vec3 dir,
+                           double* dist = nullptr) {
+  const Hit h = trace(s, spawn(s, p, n, prim, dir));
+  if (h.prim < 0) return false;
+  if (dist) *dist = length(h.p - p);
+  return true;
+}
+
 // ---- shading ----
 
 struct Surface {
@@ -285,20 +296,31 @@ inline Surface surface(const Scene& s, const Hit& h, Vec3 dir) {
   return sf;
 }
 
-// The point light's emitted intensity toward `from` (W/sr), 0 behind a disk/rect light.
+// The point light's emitted intensity toward `from` (W/sr): 0 behind a disk/rect light, shaped
+// by the cone for a spot (not for a sun).
 inline Vec3 light_intensity(const Light& l, Vec3 dir_from_light) {
   if (l.type == Light::Type::sphere) return l.intensity;
+  if (l.type == Light::Type::spot) return l.intensity * spot_attenuation(l, dir_from_light);
   return l.intensity * std::max(0.0, dot(l.normal, dir_from_light));
 }
 
-// key.direct: diffuse BSDF × the point light's radiance × cosine, unoccluded.
-inline Vec3 key_direct(const Scene& s, const Surface& sf) {
-  const Vec3 to = s.key.position - sf.p;
+// A sun's direct light from unit direction `dir`: diffuse BSDF × irradiance × cosine.
+inline Vec3 sun_direct(const Light& l, const Surface& sf, Vec3 dir) {
+  const double cos = dot(sf.n, dir);
+  if (cos <= 0) return {};
+  return sf.m->albedo * (sf.kd / kPi) * l.intensity * cos;
+}
+
+// <name>.direct: diffuse BSDF × the point light's radiance × cosine (a sun: along its
+// direction), unoccluded.
+inline Vec3 light_direct(const Light& light, const Surface& sf) {
+  if (light.type == Light::Type::sun) return sun_direct(light, sf, light.direction);
+  const Vec3 to = light.position - sf.p;
   const double d2 = dot(to, to);
   const Vec3 l = to / std::sqrt(d2);
   const double cos = dot(sf.n, l);
   if (cos <= 0) return {};
-  return sf.m->albedo * (sf.kd / kPi) * light_intensity(s.key, -l) * (cos / d2);
+  return sf.m->albedo * (sf.kd / kPi) * light_intensity(light, -l) * (cos / d2);
 }
 
 struct Hard {
@@ -306,12 +328,15 @@ struct Hard {
   double shadow = 1, occluder = 0;
 };
 
-inline Hard hard_shadow(const Scene& s, const Surface& sf) {
+inline Hard hard_shadow(const Scene& s, const Surface& sf, const Light& light) {
   Hard r;
-  r.direct = key_direct(s, sf);
+  r.direct = light_direct(light, sf);
   if (luminance(r.direct) <= 0) return r;  // facing away: 1 by convention, as cases/ do
   double dist = 0;
-  if (occluded(s, sf.p, sf.n, sf.prim, s.key.position, &dist)) {
+  const bool hidden = light.type == Light::Type::sun
+                          ? occluded_along(s, sf.p, sf.n, sf.prim, light.direction, &dist)
+                          : occluded(s, sf.p, sf.n, sf.prim, light.position, &dist);
+  if (hidden) {
     r.shadow = 0;
     r.occluder = dist;
   }
@@ -324,8 +349,12 @@ inline Vec3 radiance_seen_in_reflection(const Scene& s, const Ray& r) {
   const Hit h = trace(s, r);
   if (h.prim < 0) return s.fill;
   const Surface sf = surface(s, h, r.d);
-  const Hard hs = hard_shadow(s, sf);
-  return sf.other + hs.direct * hs.shadow;
+  Vec3 c = sf.other;
+  for (const Light& l : s.lights) {
+    const Hard hs = hard_shadow(s, sf, l);
+    c += hs.direct * hs.shadow;
+  }
+  return c;
 }
 
 Vec3 reflect(Vec3 d, Vec3 n) { return d - n * (2 * dot(d, n)); }
@@ -334,7 +363,7 @@ struct Primary {
   bool hit = false;
   Hit h;
   Surface sf;
-  Hard hs;
+  std::vector<Hard> hs;  // per light
   Vec3 refl;
   double refl_dist = 0;
   Vec3 beauty;
@@ -347,7 +376,8 @@ inline Primary shade_primary(const Scene& s, const Ray& r) {
   if (pr.h.prim < 0) return pr;
   pr.hit = true;
   pr.sf = surface(s, pr.h, r.d);
-  pr.hs = hard_shadow(s, pr.sf);
+  pr.hs.reserve(s.lights.size());
+  for (const Light& l : s.lights) pr.hs.push_back(hard_shadow(s, pr.sf, l));
   if (luminance(pr.sf.weight) > 0) {
     const Vec3 d = reflect(r.d, pr.sf.n);
     const Ray rr = spawn(s, pr.sf.p, pr.sf.n, pr.sf.prim, d);
@@ -355,7 +385,9 @@ inline Primary shade_primary(const Scene& s, const Ray& r) {
     pr.refl = radiance_seen_in_reflection(s, rr);
     pr.refl_dist = h2.prim >= 0 ? length(h2.p - pr.sf.p) : 0;
   }
-  pr.beauty = pr.sf.other + pr.hs.direct * pr.hs.shadow + pr.sf.weight * pr.refl;
+  Vec3 lit = pr.sf.other;
+  for (const Hard& hs : pr.hs) lit += hs.direct * hs.shadow;
+  pr.beauty = lit + pr.sf.weight * pr.refl;
   return pr;
 }
 
@@ -433,7 +465,8 @@ inline void put3(Image& img, int x, int y, int c, Vec3 v) {
 
 // ---- light sampling ----
 
-// A uniformly distributed point on the key's area (sphere: the disk facing p).
+// A uniformly distributed point on a light's area (sphere: the disk facing p; spot: the disk
+// across its axis).
 inline Vec3 sample_light(const Light& l, Vec3 p, double u, double v) {
   if (l.type == Light::Type::rect) {
     const Vec3 ua = normalize(l.u_axis - l.normal * dot(l.u_axis, l.normal));
@@ -449,13 +482,60 @@ inline Vec3 sample_light(const Light& l, Vec3 p, double u, double v) {
 
 // Area-light direct lighting of one light sample q (radiance intensity/area):
 // kd·albedo/π · L_e·A · cos·cos_l / d², i.e. the point light's formula with q for the centre.
-inline Vec3 area_direct(const Scene& s, const Surface& sf, Vec3 q) {
+// A spot's cone is evaluated from its centre toward the receiver for every sample (Cycles
+// evaluates it from the sampled point; the two differ only in a band about r/d wide at the
+// cone's edge): the cone shapes how much light arrives at the receiver, which <name>.direct
+// carries, and the soft shadow stays the disk's, so the contract's composite holds exactly.
+inline Vec3 area_direct(const Light& light, const Surface& sf, Vec3 q) {
   const Vec3 to = q - sf.p;
   const double d2 = dot(to, to);
   const Vec3 l = to / std::sqrt(d2);
   const double cos = dot(sf.n, l);
   if (cos <= 0) return {};
-  return sf.m->albedo * (sf.kd / kPi) * light_intensity(s.key, -l) * (cos / d2);
+  const Vec3 e = light.type == Light::Type::spot
+                     ? light.intensity * spot_attenuation(light, normalize(sf.p - light.position))
+                     : light_intensity(light, -l);
+  return sf.m->albedo * (sf.kd / kPi) * e * (cos / d2);
+}
+
+// A direction uniformly distributed in solid angle over a sun's disk, the cone of half-angle
+// angle/2 around `direction`: 1 − cos θ = r²·(1 − cos θ_max) with (r, φ) from the concentric map,
+// which keeps the strata compact.
+inline Vec3 sample_sun(const Light& l, double u, double v) {
+  const auto [dx, dy] = concentric_disk(u, v);
+  const double r2 = dx * dx + dy * dy;
+  if (r2 == 0) return l.direction;
+  const double half = 0.5 * l.angle_deg * kPi / 180;
+  const double one_minus_cos = r2 * 2 * std::pow(std::sin(half / 2), 2);
+  const double sin_t = std::sqrt(std::max(0.0, one_minus_cos * (2 - one_minus_cos)));
+  Vec3 t, b;
+  basis(l.direction, t, b);
+  return normalize(l.direction * (1 - one_minus_cos) + (t * dx + b * dy) * (sin_t / std::sqrt(r2)));
+}
+
+// One light sample of the references: its direct light (area_direct; a sun: sun_direct along a
+// direction over its disk) and the point or direction its visibility is traced to.
+struct LightSample {
+  Vec3 direct, q, dir;
+  bool distant = false;
+};
+
+inline LightSample sample_light_direct(const Light& l, const Surface& sf, double u, double v) {
+  LightSample ls;
+  if (l.type == Light::Type::sun) {
+    ls.distant = true;
+    ls.dir = sample_sun(l, u, v);
+    ls.direct = sun_direct(l, sf, ls.dir);
+    return ls;
+  }
+  ls.q = sample_light(l, sf.p, u, v);
+  ls.direct = area_direct(l, sf, ls.q);
+  return ls;
+}
+
+inline bool visible(const Scene& s, const Surface& sf, const LightSample& ls) {
+  return ls.distant ? !occluded_along(s, sf.p, sf.n, sf.prim, ls.dir)
+                    : !occluded(s, sf.p, sf.n, sf.prim, ls.q);
 }
 
 // ---- GGX (alpha = roughness²), visible-normal sampling (Heitz 2018) ----
