@@ -126,8 +126,9 @@ std::string shadowmap_unsupported(const io::Light* light, const std::string& nam
 // cannot: no usable shadow map; a scene so far from the origin that float32 positions step by
 // more than a shadow-map texel there; or light that grazes most receivers (the median angle of
 // the light above the lit receivers under 14 degrees, where the map's texels stretch over the
-// receivers and isg measured better). Without a camera, which isg needs and pcss does not
-// (given P), pcss.
+// receivers and isg measured better); or a map coarser than the image (a texel wider than 0.9 of
+// the pixels at most lit receivers: issue 52, a sun's map over the whole scene). Without a
+// camera, which isg needs and pcss does not (given P), pcss.
 struct ShadowAuto {
   std::string method, why;
 };
