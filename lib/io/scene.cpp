@@ -265,8 +265,9 @@ ShadowMap read_shadowmap(Reader s, const fs::path& scene_dir, bool distant) {
   if (m.orthographic()) {
     m.width_m = s.number("width_m", 0.0, 1e30, true);
     m.height_m = s.number("height_m", 0.0, 1e30, true);
-    m.near_clip = s.number_or("near", 0.0, -1e30, 1e30);
-    m.far_clip = s.number("far", -1e30, 1e30);
+    // Depths are measured from the map's camera plane, which stands before the scene.
+    m.near_clip = s.number_or("near", 0.0, 0.0, 1e30);
+    m.far_clip = s.number("far", 0.0, 1e30, true);
   } else {
     m.yfov_deg = s.number("yfov_deg", 0.0, 179.0, true);
     m.near_clip = s.number("near", 0.0, 1e30, true);
@@ -275,6 +276,9 @@ ShadowMap read_shadowmap(Reader s, const fs::path& scene_dir, bool distant) {
   if (m.far_clip <= m.near_clip) s.fail("far", "must be greater than near");
   m.width = s.integer("width", 1, 1 << 16);
   m.height = s.integer("height", 1, 1 << 16);
+  // Every method's kernels are round in texels: an orthographic map's texels must be square.
+  if (m.orthographic() && std::abs(m.width_m / m.width - m.height_m / m.height) > 1e-3 * (m.height_m / m.height))
+    s.fail("height_m", "gives texels of another height than width (width_m / width must equal height_m / height)");
   s.finish();
   return m;
 }
@@ -330,7 +334,14 @@ Light read_light(Reader r, const fs::path& scene_dir) {
     for (const char* k : {"direction", "angle_deg"})
       if (r.has(k)) r.fail(k, std::string("is only a sun's key"));
   }
-  if (r.has("shadowmap")) l.shadowmap = read_shadowmap(r.child("shadowmap"), scene_dir, l.distant());
+  if (r.has("shadowmap")) {
+    l.shadowmap = read_shadowmap(r.child("shadowmap"), scene_dir, l.distant());
+    // A sun's map looks down −Z along −direction (contract input 3): within 1°.
+    const Mat4& m = l.shadowmap->world_to_light;
+    const double n = std::sqrt(m[8] * m[8] + m[9] * m[9] + m[10] * m[10]);
+    if (l.distant() && (m[8] * l.direction[0] + m[9] * l.direction[1] + m[10] * l.direction[2]) < std::cos(M_PI / 180.0) * n)
+      r.fail("shadowmap.world_to_light", "must look down -Z along -direction (its +Z axis within 1 degree of the sun's direction)");
+  }
   r.finish();
   return l;
 }

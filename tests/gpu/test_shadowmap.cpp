@@ -427,10 +427,11 @@ TEST_F(ShadowmapGpu, SunOrthographicMapMatchesReferencesAndClosedForm) {
 
 // A sun's map over kilometres (issue 52): 2 km across at 2048² (a texel is 0.98 m), the map's
 // camera 1 km above the receiver and a 10 cm penumbra (the occluder 2 m above, a sun of tan 0.025).
-// No texel can place that edge: every method keeps the input's ray-traced edge
-// (shadows.input_edges) rather than smearing a texel's worth of penumbra, GPU and reference alike,
-// with no NaN. (Pass shadows.derive sees no blocker here: the only depth steps in this map are the
-// 2 m edge, which its noise measure, ShadowmapData::noise, takes for the map's own noise.)
+// No texel can place that edge: every method finds the blocker and keeps the input's ray-traced
+// edge (shadows.input_edges) rather than smearing a texel's worth of penumbra, GPU and reference
+// alike, with no NaN; the derived occluder distance holds its 2 m to float32's step at 1 km. The
+// map's only depth steps are the 2 m edge: its noise measure must not take them for noise (an
+// orthographic map's silhouettes are steps of over 2 texels), or the bias would hide the blocker.
 TEST_F(ShadowmapGpu, SunMapKilometresAcrossKeepsACentimetrePenumbra) {
   Planes pl;
   pl.ortho = true;
@@ -462,12 +463,24 @@ TEST_F(ShadowmapGpu, SunMapKilometresAcrossKeepsACentimetrePenumbra) {
     EXPECT_LE(bad, want.size() / 200) << method;
     EXPECT_LE(e, 1.02 * hard) << method;
   }
+  EXPECT_EQ(map.noise, 0.0);
+  auto s = pl.settings(16, "stratified", "derive");
+  const auto D = fx::shadowmap_derive_reference(in, map, s);
+  const auto G = isg::test::run_derive_gpu(ctx(), in, map, s);
+  size_t shadowed = 0, off = 0, differ = 0;
+  for (size_t i = 0; i < D.shadow.size(); ++i) {
+    if (G.shadow[i] != D.shadow[i] || std::abs(G.occluder[i] - D.occluder[i]) > 1e-3f) ++differ;
+    if (D.shadow[i] == 0.0f && ++shadowed && std::abs(D.occluder[i] - 2.0f) > 1e-3f) ++off;
+  }
+  EXPECT_GT(shadowed, D.shadow.size() / 3);
+  EXPECT_EQ(off, 0u);
+  EXPECT_LE(differ, D.shadow.size() / 1000);
 }
 
 // shadows.method=auto under a sun (issue 52): isg-synth `sun` at 480x270, its map over the whole
-// 20 m scene. At 1024² a texel spans 1.5 of the image's pixels at the lit receivers and the map
-// cannot place the 4-9 cm penumbrae (pcss 0.95 of doing nothing's error, isg 0.36): auto takes
-// isg and says why. At 4096² (0.37 of a pixel; pcss 0.26) it takes pcss.
+// 20 m scene. At 1024² the 4-9 cm penumbrae span 1.5 texels (radius, median), where the input's
+// hard edge stands in pcss (0.95 of doing nothing's error, isg 0.36): auto takes isg and says
+// why. At 4096² (6 texels; pcss 0.26) it takes pcss.
 TEST(ShadowmapAuto, ASunMapCoarserThanTheImageTakesIsg) {
   for (const int size : {1024, 4096}) {
     const auto dir = isg::test::synth_case({"sun", 480, 270, 0, 1, size}, "auto-sun-" + std::to_string(size));
@@ -477,6 +490,6 @@ TEST(ShadowmapAuto, ASunMapCoarserThanTheImageTakesIsg) {
     const auto a = fx::choose_shadow_method(f.img, f.roles, job.scene.light("sun"), "sun", &*job.scene.camera);
     std::printf("sun, %d² map: auto takes %s: %s\n", size, a.method.c_str(), a.why.c_str());
     EXPECT_EQ(a.method, size == 1024 ? "isg" : "pcss") << a.why;
-    EXPECT_NE(a.why.find(size == 1024 ? "coarser than the image" : "the shadow map's pcss"), std::string::npos) << a.why;
+    EXPECT_NE(a.why.find(size == 1024 ? "too coarse for these penumbrae" : "the shadow map's pcss"), std::string::npos) << a.why;
   }
 }

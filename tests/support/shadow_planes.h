@@ -48,14 +48,14 @@ struct Planes {
         double den = 1.0 - slope * a;
         z[size_t(j) * map + i] = float(a < edge && d_o > 0.0 ? d_o : (den > z_r / far ? z_r / den : 1e30));
       }
-    return fx::make_shadowmap(map, map, std::move(z), ortho);
+    return fx::make_shadowmap(map, map, std::move(z), ortho ? extent / map : 0.0);
   }
   // The same map with texels [x0, x1) x [y0, y1) set to depth d (an extra blocker).
   fx::ShadowmapData shadowmap_with(int x0, int x1, int y0, int y1, float d) const {
     auto z = shadowmap().z;
     for (int j = y0; j < y1; ++j)
       for (int i = x0; i < x1; ++i) z[size_t(j) * size_t(map) + size_t(i)] = d;
-    return fx::make_shadowmap(map, map, std::move(z), ortho);
+    return fx::make_shadowmap(map, map, std::move(z), ortho ? extent / map : 0.0);
   }
   // Receivers on a grid x, y ∈ [-1, 1] (as P); L.shadow the renderer's hard verdict, the ray
   // from the light's centre (the origin) to the receiver: blocked where it crosses depth d_o at

@@ -104,7 +104,7 @@ TEST(Scene, InverseIsExactOnFarFromOriginTransforms) {
 // Issue 52: the contract's spot and sun, and an orthographic map; bad specs name their key.
 namespace {
 const char* kSun = R"({"name": "sun", "type": "sun", "direction": [0, 3, 4], "angle_deg": 2.0,
-  "shadowmap": {"file": "shadowmap_sun.exr", "world_to_light": [1,0,0,0, 0,1,0,0, 0,0,1,-50, 0,0,0,1],
+  "shadowmap": {"file": "shadowmap_sun.exr", "world_to_light": [1,0,0,0, 0,0.8,-0.6,0, 0,0.6,0.8,-50, 0,0,0,1],
                 "projection": "orthographic", "width_m": 40.0, "height_m": 30.0,
                 "near": 0.0, "far": 200.0, "width": 2048, "height": 1536}})";
 const char* kSpot = R"({"name": "spot", "type": "spot", "position": [0, 0, 5], "radius": 0.25,
@@ -159,6 +159,9 @@ TEST(Scene, BadSunAndSpotSpecsNameTheKey) {
                "lights[0].shadowmap.projection");
   expect_error(light_with(kSun, "\"angle_deg\": 2.0", "\"angle_deg\": 2.0, \"radius\": 1"), "lights[0].radius");
   expect_error(light_with(kSun, "\"far\": 200.0", "\"far\": -1"), "lights[0].shadowmap.far");
+  expect_error(light_with(kSun, "\"near\": 0.0", "\"near\": -5"), "lights[0].shadowmap.near");
+  expect_error(light_with(kSun, "\"height_m\": 30.0", "\"height_m\": 40.0"), "lights[0].shadowmap.height_m");
+  expect_error(light_with(kSun, "\"direction\": [0, 3, 4]", "\"direction\": [0, 4, 3]"), "lights[0].shadowmap.world_to_light");
   // A spot: a cone in (0, 180], a blend in [0, 1], its axis; a sun's keys are not its own.
   expect_error(light_with(kSpot, "\"spot_angle_deg\": 60", "\"spot_angle_deg\": 0"), "lights[0].spot_angle_deg");
   expect_error(light_with(kSpot, "\"spot_blend\": 0.3", "\"spot_blend\": 1.5"), "lights[0].spot_blend");

@@ -23,22 +23,22 @@ constexpr int kTile = SHADOWS_ISG_TILE;
 // receivers (issue 19): own Cycles `grazing` (8 degrees) isg 0.38 of doing nothing's error
 // against pcss 0.44; `lowlight` and the shared cases (higher) pcss 0.23-0.39 against isg 0.20-0.52.
 constexpr double kAutoGrazingDegrees = 14.0;
-// shadows.method=auto takes isg where a map texel at most lit receivers is wider than this many
-// of their pixels (issue 52): the map cannot place the penumbrae the image resolves (where the
-// penumbra is within shadows.input_edges texels the input's hard edge stands). Texel over pixel
-// (median) and RMSE over doing nothing's, pcss against isg: shared contact 0.78, 0.21 against
-// 0.35; shared rowdepth 0.65 (pcss); isg-synth `sun` (its 20 m map at 1024²) at 320x180 0.99,
-// 0.95 against 0.55, at 480x270 1.49, 0.95 against 0.36; with a 4096² map at 480x270 0.37, 0.26
-// against 0.36.
-constexpr double kAutoCoarseTexels = 0.9;
+// shadows.method=auto takes isg where the penumbrae span fewer than this many map texels (their
+// radius eq. 8 gives from L.occluder at the shadowed receivers, median; issue 52): there the
+// input's hard edge stands (shadows.input_edges, 2 texels) and pcss can add little. Penumbra
+// radius in texels and RMSE over doing nothing's, pcss against isg: isg-synth `sun` (its 20 m
+// map) at 480x270, 1024² 1.5, 0.95 against 0.36 (at 320x180 also 1.5: 0.95 against 0.55); 4096² 6.0, 0.26 against
+// 0.36; shared contact 7.6, 0.21 against 0.35; shared rowdepth 11.9.
+constexpr double kAutoPenumbraTexels = 2.0;
 }  // namespace
 
 // A sun, for method isg (eq. 5 and 8 take a light's centre and radius): a sphere light this many
-// scene radii from the camera along its direction, of the radius that subtends the sun's angle.
-// Eq. 8's penumbra L·d/(D − d) is then tan(angle/2)·d within d/D (≤ 2e-4 for occluders within
-// two scene radii of the receiver), and the rays to it from the scene's points part by at most
-// 2e-4 rad (2 scene radii apart), under a tenth of a 0.5° sun's half angle; in float32 the
-// centre (camera-relative) keeps 6e-8 of D.
+// times the larger of the scene radius and the camera's focus distance (how far the set is) from
+// the camera along its direction, of the radius that subtends the sun's angle. Eq. 8's penumbra
+// L·d/(D − d) is then tan(angle/2)·d within d/D (≤ 2e-4 for occluders within two scene radii of
+// the receiver), and the rays to it from points of the set part by at most 2e-4 rad (2 scene
+// radii or the camera's distance apart), under a tenth of a 0.5° sun's half angle; in float32
+// the centre (camera-relative) keeps 6e-8 of D.
 constexpr double kSunDistance = 1e4;
 
 double light_size(const io::Light& light) {
@@ -57,12 +57,12 @@ double light_size(const io::Light& light) {
 }
 
 std::array<double, 3> light_centre_for(const io::Light& light, const std::array<double, 3>& eye,
-                                       double scene_radius, double* radius) {
+                                       double scale, double* radius) {
   if (!light.distant()) {
     if (radius) *radius = light_size(light);
     return light.position;
   }
-  const double D = kSunDistance * std::max(scene_radius, 1e-6);
+  const double D = kSunDistance * std::max(scale, 1e-6);
   if (radius) *radius = D * light_size(light);
   return {eye[0] + D * light.direction[0], eye[1] + D * light.direction[1], eye[2] + D * light.direction[2]};
 }
@@ -86,7 +86,7 @@ ShadowSettings shadow_settings(const io::Light& light, const io::Camera& cam, do
   s.search_reach = p.get(shadow_keys::search_reach);
   s.tile_skip = p.get(shadow_keys::tile_skip);
   const auto v = PinholeView::of(cam, height);
-  s.light = light_centre_for(light, v.eye, s.scene_radius, &s.light_size);
+  s.light = light_centre_for(light, v.eye, std::max(s.scene_radius, cam.focus_distance), &s.light_size);
   s.oriented = light.type == io::LightType::disk || light.type == io::LightType::rect ||
                light.type == io::LightType::spot;
   const double nl = std::sqrt(light.normal[0] * light.normal[0] + light.normal[1] * light.normal[1] +
@@ -168,8 +168,10 @@ namespace {
 // depth changes (a plane rounded to float32 steps is flat between the steps: counting the flat
 // texels would hide the steps of a surface whose depth changes slowly), not at silhouettes
 // (a jump of over SILHOUETTE of the depth: 0.2 m at 4 m, where a float32 step 1e6 m from the
-// origin is 62.5 mm).
-double depth_noise(const ShadowmapData& d, bool ortho) {
+// origin is 62.5 mm; a sun's orthographic map, whose depth is measured from wherever its camera
+// stands, a jump of over ORTHO_SILHOUETTE texels: steeper than 63° from its axis).
+double depth_noise(const ShadowmapData& d, double ortho_texel) {
+  const bool ortho = ortho_texel > 0.0;
   // A map over 1024² texels is measured on every step-th row and column (at most 2^20 texels, two
   // differences each: 16 MiB here rather than 268 MiB for a 4096² map).
   const int step = int(std::ceil(std::sqrt(double(d.width) * double(d.height) / double(1 << 20))));
@@ -184,9 +186,9 @@ double depth_noise(const ShadowmapData& d, bool ortho) {
         const int ax = axis == 0 ? 1 : 0, ay = 1 - ax;
         if (x - ax < 0 || y - ay < 0 || x + ax >= d.width || y + ay >= d.height) continue;
         const double a = at(x - ax, y - ay), b = at(x + ax, y + ay);
-        constexpr double SILHOUETTE = 0.05;
+        constexpr double SILHOUETTE = 0.05, ORTHO_SILHOUETTE = 2.0;
         if (!surface(a) || !surface(b) || (a == z && b == z)) continue;
-        if (std::max(std::abs(a - z), std::abs(b - z)) > SILHOUETTE * z) continue;
+        if (std::max(std::abs(a - z), std::abs(b - z)) > (ortho ? ORTHO_SILHOUETTE * ortho_texel : SILHOUETTE * z)) continue;
         // A sun's orthographic map: z itself is linear on a plane.
         r.push_back((ortho ? std::abs(a - 2.0 * z + b) : std::abs(1.0 / a - 2.0 / z + 1.0 / b) * z * z) / std::sqrt(6.0));
       }
@@ -198,14 +200,14 @@ double depth_noise(const ShadowmapData& d, bool ortho) {
 }
 }  // namespace
 
-ShadowmapData make_shadowmap(int width, int height, std::vector<float> z, bool ortho) {
+ShadowmapData make_shadowmap(int width, int height, std::vector<float> z, double ortho_texel) {
   ShadowmapData d;
   d.width = width;
   d.height = height;
   d.z = std::move(z);
   for (float v : d.z)
     if (v > 0.0f && v < ISG_BACKGROUND_DEPTH) d.min_depth = std::min(d.min_depth, double(v));
-  d.noise = depth_noise(d, ortho);
+  d.noise = depth_noise(d, ortho_texel);
   return d;
 }
 
@@ -250,7 +252,7 @@ ShadowmapData load_shadowmap(const ShadowmapSettings& s) {
     for (const auto& [i, v] : fill) z[i] = v;
     bad = std::move(left);
   }
-  auto map = make_shadowmap(W, H, std::move(z), s.ortho);
+  auto map = make_shadowmap(W, H, std::move(z), s.ortho ? s.height_m / double(std::max(H, 1)) : 0.0);
   map.nonfinite = nonfinite;
   return map;
 }
@@ -264,8 +266,7 @@ ShadowAuto choose_shadow_method(const io::Image& img, const io::Roles& roles, co
   if (!cam) return {"pcss", "no camera, which isg needs: the shadow map's pcss"};
   const io::ShadowMap& sm = *light->shadowmap;
   const PinholeView view = PinholeView::of(*cam, img.height);
-  const double scene_r = 1.0;  // a sun's stand-in stands 1e4 of these away: only its direction counts here
-  const std::array<double, 3> L = light_centre_for(*light, view.eye, scene_r, nullptr);
+  const std::array<double, 3> L = light->position;  // a sun: its direction, below
   // Far from the origin: the float32 step of positions there against a shadow-map texel at the
   // camera's distance from the light. Past a texel the map can no longer place the receiver
   // within its own texel and isg, which works from camera-relative depth, does better; under it
@@ -307,24 +308,27 @@ ShadowAuto choose_shadow_method(const io::Image& img, const io::Roles& roles, co
     return view.world(i, Z[i], W, H);
   };
   const int stride = std::max(1, int(std::sqrt(double(n) / 65536.0)));
-  std::vector<double> elev, coarse;
-  // A map texel's width at a receiver (planar depth along the map's axis; a sun's map: its
-  // texel) over the receiver's pixel footprint (camera depth / f_px).
+  std::vector<double> elev, penumbra;
+  // A shadowed receiver's penumbra radius (eq. 8 from its L.occluder d; a sun: tan(angle/2)·d)
+  // over the map's texel there (planar depth along the map's axis; a sun's map: its texel).
+  const io::RoleBinding* ob = roles.get(name + ".occluder");
+  const std::vector<float> occ = ob ? io::gather_role(img, *ob, 1) : std::vector<float>{};
   const auto& ml = sm.world_to_light;
-  const double tan_y = std::tan(sm.yfov_deg * kPi / 360.0);
-  auto texel_over_pixel = [&](const V3& P0) {
+  const double tan_y = std::tan(sm.yfov_deg * kPi / 360.0), size = light_size(*light);
+  auto penumbra_texels = [&](const V3& P0, double d) {
     const double zl = -(ml[8] * P0[0] + ml[9] * P0[1] + ml[10] * P0[2] + ml[11]);
     const double tx = sm.orthographic() ? sm.height_m / double(std::max(sm.height, 1))
                                         : std::max(zl, 0.0) * 2.0 * tan_y / double(std::max(sm.height, 1));
-    const double zc = (P0[0] - view.eye[0]) * -view.rot[6] + (P0[1] - view.eye[1]) * -view.rot[7] +
-                      (P0[2] - view.eye[2]) * -view.rot[8];
-    return tx / std::max(zc / view.f_px, 1e-30);
+    const double D = std::hypot(L[0] - P0[0], L[1] - P0[1], L[2] - P0[2]);
+    const double rs = light->distant() ? size * d : size * d / std::max(D - d, 1e-6 * D);
+    return rs / std::max(tx, 1e-30);
   };
   for (int y = 0; y + 1 < H; y += stride)
     for (int x = 0; x + 1 < W; x += stride) {
       const size_t i = size_t(y) * size_t(W) + size_t(x);
       if (!fg(i)) continue;
       const V3 P0 = pos(i);
+      if (!occ.empty() && occ[i] > 0.0f && std::isfinite(occ[i])) penumbra.push_back(penumbra_texels(P0, occ[i]));
       V3 nn;
       if (!N.empty()) {
         nn = {N[i], N[n + i], N[2 * n + i]};
@@ -338,14 +342,11 @@ ShadowAuto choose_shadow_method(const io::Image& img, const io::Roles& roles, co
           nn = {-nn[0], -nn[1], -nn[2]};
       }
       const double ln = std::hypot(nn[0], nn[1], nn[2]);
-      const V3 wl = {L[0] - P0[0], L[1] - P0[1], L[2] - P0[2]};
+      const V3 wl = light->distant() ? light->direction : V3{L[0] - P0[0], L[1] - P0[1], L[2] - P0[2]};
       const double lw = std::hypot(wl[0], wl[1], wl[2]);
       if (!(ln > 0.0) || !(lw > 0.0)) continue;
       const double c = (nn[0] * wl[0] + nn[1] * wl[1] + nn[2] * wl[2]) / (ln * lw);
-      if (c > 0.0) {  // lit side only
-        elev.push_back(std::asin(std::min(c, 1.0)) * 180.0 / kPi);
-        coarse.push_back(texel_over_pixel(P0));
-      }
+      if (c > 0.0) elev.push_back(std::asin(std::min(c, 1.0)) * 180.0 / kPi);  // lit side only
     }
   if (elev.empty()) return {"isg", "no receivers facing the light"};
   const auto mid = elev.begin() + std::ptrdiff_t(elev.size() / 2);
@@ -354,13 +355,17 @@ ShadowAuto choose_shadow_method(const io::Image& img, const io::Roles& roles, co
     std::snprintf(b, sizeof b, "the light grazes most receivers: %.1f degrees above them (median), under %.1f", *mid, kAutoGrazingDegrees);
     return {"isg", b};
   }
-  const auto cmid = coarse.begin() + std::ptrdiff_t(coarse.size() / 2);
-  std::nth_element(coarse.begin(), cmid, coarse.end());
-  if (*cmid > kAutoCoarseTexels) {
-    std::snprintf(b, sizeof b, "the shadow map is coarser than the image: a texel spans %.2f pixels at the lit receivers (median), over %.2f", *cmid, kAutoCoarseTexels);
-    return {"isg", b};
+  char pen[96] = "";
+  if (!penumbra.empty()) {
+    const auto pmid = penumbra.begin() + std::ptrdiff_t(penumbra.size() / 2);
+    std::nth_element(penumbra.begin(), pmid, penumbra.end());
+    if (*pmid < kAutoPenumbraTexels) {
+      std::snprintf(b, sizeof b, "the shadow map is too coarse for these penumbrae: their radius spans %.2f of its texels (median over the shadowed receivers), under %.1f", *pmid, kAutoPenumbraTexels);
+      return {"isg", b};
+    }
+    std::snprintf(pen, sizeof pen, ", penumbrae %.1f map texels wide (radius, median)", *pmid);
   }
-  std::snprintf(b, sizeof b, "the light stands %.1f degrees above most receivers (median; grazing under %.1f), %.3g m from the world origin, a map texel spans %.2f pixels there (median): the shadow map's pcss", *mid, kAutoGrazingDegrees, mag, *cmid);
+  std::snprintf(b, sizeof b, "the light stands %.1f degrees above most receivers (median; grazing under %.1f), %.3g m from the world origin%s: the shadow map's pcss", *mid, kAutoGrazingDegrees, mag, pen);
   return {"pcss", b};
 }
 

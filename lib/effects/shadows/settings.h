@@ -48,10 +48,10 @@ struct ShadowSettings {
 double light_size(const io::Light& light);
 
 // The light's centre and (radius) L for eq. 5 and 8: its position and light_size(); a sun's
-// stand-in, a sphere kSunDistance scene radii from the eye along its direction that subtends its
-// angle (settings.cpp).
+// stand-in, a sphere kSunDistance times `scale` (the set's size or distance) from the eye along
+// its direction that subtends its angle (settings.cpp).
 std::array<double, 3> light_centre_for(const io::Light& light, const std::array<double, 3>& eye,
-                                       double scene_radius, double* radius);
+                                       double scale, double* radius);
 
 // Why method isg cannot run for this light ("" when it can).
 std::string shadows_isg_unsupported(const io::Light* light);
@@ -126,9 +126,9 @@ std::string shadowmap_unsupported(const io::Light* light, const std::string& nam
 // cannot: no usable shadow map; a scene so far from the origin that float32 positions step by
 // more than a shadow-map texel there; or light that grazes most receivers (the median angle of
 // the light above the lit receivers under 14 degrees, where the map's texels stretch over the
-// receivers and isg measured better); or a map coarser than the image (a texel wider than 0.9 of
-// the pixels at most lit receivers: issue 52, a sun's map over the whole scene). Without a
-// camera, which isg needs and pcss does not (given P), pcss.
+// receivers and isg measured better); or penumbrae narrower than 2 map texels (their radius from
+// L.occluder, median: issue 52, a sun's map over a whole scene), where the input's hard edge
+// stands in pcss. Without a camera, which isg needs and pcss does not (given P), pcss.
 struct ShadowAuto {
   std::string method, why;
 };
@@ -159,6 +159,7 @@ struct ShadowmapData {
 // clipped at its far plane (a backdrop 1e6 away must not set the SAT methods' depth range).
 // NaN/Inf texels are repaired with their farthest finite neighbour (counted in `nonfinite`).
 ShadowmapData load_shadowmap(const ShadowmapSettings& s);
-ShadowmapData make_shadowmap(int width, int height, std::vector<float> z, bool ortho = false);
+// ortho_texel: a sun's orthographic map, its texel in world units (0: a perspective map).
+ShadowmapData make_shadowmap(int width, int height, std::vector<float> z, double ortho_texel = 0.0);
 
 }  // namespace isg::effects
