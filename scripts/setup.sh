@@ -63,6 +63,9 @@ elif [ "$mode" = cases ]; then
     echo "check_case.py: the far cases and grazing fail some checks by design (tools/cases/README.md)"
   ISG_OWN_CASES=$own python3 bench/shadow_cases.py --build "$build"
 else
+  # The libFuzzer harnesses are built here, with the rest of the build (clang, sanitizers: two
+  # minutes on two cores); ctest's fuzz_build then finds them built and the smoke runs use them.
+  command -v clang++ >/dev/null && ISG_FUZZ_BUILD_DIR="$build/fuzz" ISG_BUILD_DIR="$build" scripts/fuzz.sh 0
   # XDG_RUNTIME_DIR silences a harmless loader warning on headless machines.
   export XDG_RUNTIME_DIR=${XDG_RUNTIME_DIR:-/tmp}
   ctest --test-dir "$build" --output-on-failure --parallel "$(nproc)" --timeout 900
