@@ -61,6 +61,24 @@ for label, scene, lights, extra in SCENES:
         print(label, m, {l: round(v["rmse"] / v["nothing"], 3) for l, v in row["lights"].items()},
               "composite", round(row["composite"] / nothing, 3), flush=True)
 
+# Own Cycles cases (tools/cases, rendered into $ISG_OWN_CASES, default ../cases-own; skipped
+# where absent): their light by name, each method against ref/softshadow_<light>.exr.
+own_dir = os.environ.get("ISG_OWN_CASES", os.path.join(here, "..", "..", "cases-own"))
+cycles = []
+for case, light in (("sun", "sun"),):
+    d = os.path.join(own_dir, case)
+    if not os.path.isfile(os.path.join(d, "ref", f"softshadow_{light}.exr")):
+        print("own Cycles case", case, "absent: skipped", flush=True)
+        continue
+    hard = run_isg(T, d, ["shadows.method=hard"], out=os.path.join(T.tmp, "hard.exr"))
+    nothing = light_error(hard["out"], d, light)
+    for m in METHODS:
+        r = run_isg(T, d, [f"shadows.method={m}"], out=os.path.join(T.tmp, f"own-{m}.exr"))
+        auto = re.search(r"^\s*shadows\[" + light + r"\]: (\S+)", r["text"], re.M)
+        cycles.append({"case": case, "light": light, "method": m, "rmse": light_error(r["out"], d, light),
+                       "nothing": nothing, "took": auto.group(1) if auto and m == "auto" else m})
+        print("own", case, m, round(cycles[-1]["rmse"] / nothing, 3), flush=True)
+
 # Several lights: the three-light frame against the same frame with the key alone.
 speed = {}
 for scene in ("contact", "three-lights"):
@@ -81,7 +99,7 @@ for scene in ("contact", "three-lights"):
                     "device": best["device"]}
     print(scene, speed[scene], flush=True)
 
-save("lights.json", {"rows": rows, "speed": speed, "size": a.size, "spp": a.spp})
+save("lights.json", {"rows": rows, "cycles": cycles, "speed": speed, "size": a.size, "spp": a.spp})
 
 md = ["# Sun, spot and several lights (issue 52)", "",
       f"isg-synth scenes at {a.size}, references {a.spp} light samples a pixel; `isg run` with "
@@ -98,6 +116,14 @@ for r in rows:
                    for l, v in r["lights"].items())
     md.append(f"| {r['scene']} | {r['method']} | {ls} | {r['composite']:.4f} / "
               f"{r['composite_nothing']:.4f} (**{r['composite'] / r['composite_nothing']:.2f}**) |")
+if cycles:
+    md += ["", "## Own Cycles cases", "",
+           "Rendered with tools/cases (Blender 3.4 Cycles; the case's README gives its set-up and the "
+           "oracle composite). `L.softshadow` RMSE against the converged reference over its mask, and as "
+           "a ratio of doing nothing's.", "", "| case | method | RMSE | of doing nothing's |", "|---|---|---|---|"]
+    for r in cycles:
+        took = f" (took {r['took']})" if r["method"] == "auto" else ""
+        md.append(f"| {r['case']} ({r['light']}) | {r['method']}{took} | {r['rmse']:.4f} | **{r['rmse'] / r['nothing']:.2f}** |")
 c, t = speed["contact"], speed["three-lights"]
 md += ["", f"## Several lights at {a.speed_size} (defaults: method isg; best of {a.repeat})", "",
        "| frame | wall | GPU total | GPU per light (shadow passes) |", "|---|---|---|---|"]

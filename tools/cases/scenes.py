@@ -141,4 +141,30 @@ SCENES["overlap"] = dict(
     spp=dict(OWN_SPP),
 )
 
+# The shared `contact` scene under a low sun instead of its sphere key: the one case of a distant light
+# (issue 19), so the methods' sun paths (orthographic map, penumbrae set by an angle, not a radius) meet a
+# Cycles reference. Elevation 30 degrees: shadows 1.7x their blockers' heights, long enough that the pole's
+# and the box's reach well across the floor, not so low that the map turns grazing (`grazing` covers that).
+# Azimuth -45 degrees (to the camera's right and behind it, as contact's key at about -30): the shadows fall
+# away from the camera and to the left, all inside the frame, and the sun stays far from every mirror
+# direction of the glossy floor (post_case.py asserts the references cannot show its disk). Strength 4 W/m^2:
+# 2 W/m^2 on the floor at 30 degrees, the irradiance of contact's key on its lit floor (1100 W at 5.2 m,
+# median 1.9 W/m^2 measured from its key.direct), so the two cases expose alike.
+# The generator frames the orthographic map on everything the camera sees (frame_sun_map): 12.75 m square
+# here at the shared 1024^2, a texel 1.25 cm across the rays, 2.5 cm along the floor; the box's penumbra
+# is about 6 texels wide across the rays.
+SCENES["sun"] = dict(
+    copy.deepcopy({k: v for k, v in SCENES["contact"].items() if k not in ("key", "sm_fov")}),
+    about=("The shared `contact` scene (a sphere resting on the floor, a box floating 0.8 m above it, a thin pole) "
+           "with its key replaced by a low sun: 30 degrees above the horizon, from the camera's right and behind it "
+           "(azimuth -45 degrees), angular diameter 2.5 degrees in the references (about five times the real sun's). "
+           "Shadows are 1.7 times their blockers' heights long and fall away from the camera and to the left. The "
+           "penumbra is d * 0.044 wide across the rays, d the distance from blocker to receiver along the ray, and "
+           "1/sin(30) = 2 times that along the ground in the sun's azimuth: sharp where the sphere and the pole touch "
+           "the floor, 7 cm (across the rays) under the box's lower face (1.6 m along the ray), 14 cm at the pole's "
+           "tip (3.2 m). The shadow map is orthographic."),
+    sun=dict(direction=_shared.sun_dir(30.0, -45.0), angle_deg=2.5, strength=4.0),
+    spp=dict(OWN_SPP),
+)
+
 OWN = [k for k in SCENES if k not in _shared.SCENES]

@@ -24,12 +24,14 @@ constexpr int kTile = SHADOWS_ISG_TILE;
 // against pcss 0.44; `lowlight` and the shared cases (higher) pcss 0.23-0.39 against isg 0.20-0.52.
 constexpr double kAutoGrazingDegrees = 14.0;
 // shadows.method=auto takes isg where the penumbrae span fewer than this many map texels (their
-// radius eq. 8 gives from L.occluder at the shadowed receivers, median; issue 52): there the
-// input's hard edge stands (shadows.input_edges, 2 texels) and pcss can add little. Penumbra
-// radius in texels and RMSE over doing nothing's, pcss against isg: isg-synth `sun` (its 20 m
-// map) at 480x270, 1024² 1.5, 0.95 against 0.36 (at 320x180 also 1.5: 0.95 against 0.55); 4096² 6.0, 0.26 against
-// 0.36; shared contact 7.6, 0.21 against 0.35; shared rowdepth 11.9.
-constexpr double kAutoPenumbraTexels = 2.0;
+// radius eq. 8 gives from L.occluder at the shadowed receivers, median; issue 52): within
+// shadows.input_edges (2 texels) the input's hard edge stands, and a little beyond pcss still
+// adds little. Penumbra radius in texels and RMSE over doing nothing's, pcss against isg:
+// isg-synth `sun` (its 20 m map) at 480x270, 1024² 1.5, 0.95 against 0.36 (at 320x180 also 1.5:
+// 0.95 against 0.55); own Cycles `sun` (12.75 m map, 1024²) 2.3, 0.64 against 0.40; isg-synth
+// `sun` with a 4096² map 6.0, 0.26 against 0.36; shared contact 7.6, 0.21 against 0.35; shared
+// rowdepth 11.9 (pcss). The cut lies between 2.3 and 6.0.
+constexpr double kAutoPenumbraTexels = 4.0;
 }  // namespace
 
 // A sun, for method isg (eq. 5 and 8 take a light's centre and radius): a sphere light this many
