@@ -332,6 +332,7 @@ def report():
          "[shadow-map methods against isg](benchmark/shadowmap_methods.md) · "
          "[shadow methods on more Cycles cases](benchmark/shadow_cases.md) · "
          "[sun, spot and several lights](benchmark/lights.md) · "
+         "[Blender's Defocus node against isg](benchmark/dof_blender.md) · "
          "[scaling](benchmark/scaling.md) · [roofline gather](benchmark/roofline.md) · [speed against file I/O](benchmark/speed.md) · [the same on a GPU (H200, H100)](benchmark/speed-gpu.md).", "",
          "## Summary: per case, isg's best run and its fastest good one, against the renderer", "",
          "*best*: the lowest composite error of any method and setting; *fastest ≤ ½*: the fastest run "
