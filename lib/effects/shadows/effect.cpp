@@ -42,7 +42,7 @@ class Shadows final : public Effect {
        "maps, thesis ch. 7), cssm (convolution soft shadow maps, thesis ch. 5); the shadow-map "
        "methods need P, or Z and the camera, and the light's shadowmap in the scene file; auto "
        "(per light, from the frame's pixels: pcss where the light stands above most receivers "
-       "near the world origin and its penumbrae span 4 map texels or more, else isg; "
+       "near the world origin and its penumbrae span 3 map texels or more, else isg; "
        "the choice and why are printed). isg and pcss weigh each "
        "point of the light by the irradiance it gives the receiver, as a renderer's soft shadow does "
        "(under a low light its top outweighs its bottom); vssm and cssm filter the map uniformly"),

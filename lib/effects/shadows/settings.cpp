@@ -29,9 +29,10 @@ constexpr double kAutoGrazingDegrees = 14.0;
 // adds little. Penumbra radius in texels and RMSE over doing nothing's, pcss against isg:
 // isg-synth `sun` (its 20 m map) at 480x270, 1024² 1.5, 0.95 against 0.36 (at 320x180 also 1.5:
 // 0.95 against 0.55); own Cycles `sun` (12.75 m map, 1024²) 2.3, 0.64 against 0.40; isg-synth
-// `sun` with a 4096² map 6.0, 0.26 against 0.36; shared contact 7.6, 0.21 against 0.35; shared
-// rowdepth 11.9 (pcss). The cut lies between 2.3 and 6.0.
-constexpr double kAutoPenumbraTexels = 4.0;
+// `sun` with a 4096² map 6.0, 0.26 against 0.36; isg-synth contact 1e6 m from the origin, P
+// refitted (tests/gpu/test_vssm.cpp, 192x108, 512² map) 3.8, RMSE 0.0172 against 0.0287; shared
+// contact 7.6, 0.21 against 0.35; shared rowdepth 11.9 (pcss). The cut lies between 2.3 and 3.8.
+constexpr double kAutoPenumbraTexels = 3.0;
 }  // namespace
 
 // A sun, for method isg (eq. 5 and 8 take a light's centre and radius): a sphere light this many

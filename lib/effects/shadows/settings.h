@@ -126,7 +126,7 @@ std::string shadowmap_unsupported(const io::Light* light, const std::string& nam
 // cannot: no usable shadow map; a scene so far from the origin that float32 positions step by
 // more than a shadow-map texel there; or light that grazes most receivers (the median angle of
 // the light above the lit receivers under 14 degrees, where the map's texels stretch over the
-// receivers and isg measured better); or penumbrae narrower than 4 map texels (their radius from
+// receivers and isg measured better); or penumbrae narrower than 3 map texels (their radius from
 // L.occluder, median: issue 52, a sun's map over a whole scene), where the input's hard edge
 // stands in pcss. Without a camera, which isg needs and pcss does not (given P), pcss.
 struct ShadowAuto {
