@@ -18,11 +18,7 @@
 
 namespace isg::effects {
 
-using detail::Geom;
-using detail::kBoxOfDisk;
-using detail::kPi;
 using detail::Plane;
-using detail::Shaded;
 using detail::V2;
 using detail::V3;
 

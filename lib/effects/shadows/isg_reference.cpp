@@ -15,7 +15,6 @@
 namespace isg::effects {
 
 namespace {
-constexpr double kPi = std::numbers::pi;
 constexpr int kTile = SHADOWS_ISG_TILE;
 using V2 = std::array<double, 2>;
 using V3 = std::array<double, 3>;
