@@ -22,12 +22,13 @@ const char* kScene = R"({
               "size": [1, 2], "u_axis": [1, 0, 0]}]
 })";
 
-std::string with(const std::string& from, const std::string& to) {
-  std::string s = kScene;
+// `s` with its first `from` replaced by `to`.
+std::string replaced(std::string s, const std::string& from, const std::string& to) {
   auto p = s.find(from);
   EXPECT_NE(p, std::string::npos) << from;
   return s.replace(p, from.size(), to);
 }
+std::string with(const std::string& from, const std::string& to) { return replaced(kScene, from, to); }
 
 void expect_error(const std::string& text, const std::string& needle) {
   try {
@@ -114,10 +115,7 @@ std::string scene_with_lights(const std::string& lights) {
 }
 // kSun (or kSpot) with one replacement.
 std::string light_with(const char* light, const std::string& from, const std::string& to) {
-  std::string s = light;
-  auto p = s.find(from);
-  EXPECT_NE(p, std::string::npos) << from;
-  return scene_with_lights(s.replace(p, from.size(), to));
+  return scene_with_lights(replaced(light, from, to));
 }
 }  // namespace
 

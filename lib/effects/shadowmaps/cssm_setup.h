@@ -89,14 +89,6 @@
 // expansion's set-up, the SAT's scale, the depth normalisation and the mip chain.
 namespace isg::effects::detail::cssm {
 
-using detail::Geom;
-using detail::kBoxOfDisk;
-using detail::kPi;
-using detail::Plane;
-using detail::Shaded;
-using detail::V2;
-using detail::V3;
-
 constexpr double kMinHalfWidth = 0.5;             // texels: the box covers at least one texel
 constexpr double kMinBlockers = 1e-3;             // 1 − s_f below it: no blockers (eq. 5.8)
 
