@@ -128,7 +128,7 @@ def settings(c):
         rows += [("cssm", f"M {m}, {f}", ["shadows.method=cssm", f"shadows.cssm_order={m}", f"shadows.cssm_filter={f}", *off])
                  for m, f in (("8", "sat"), ("16", "sat"), ("8", "mipmap"))]
         rows += [("vssm", "m 5, H 2", ["shadows.method=vssm", *off]),
-                 ("vssm", "m 1, H 0 (VSM leaves)", ["shadows.method=vssm", "shadows.vssm_m=1", "shadows.vssm_h=0",
+                 ("vssm", "m 1, H 0 (VSM leaves)", ["shadows.method=vssm", "shadows.vssm_m=1", "shadows.vssm_m_wide=1", "shadows.vssm_h=0",
                                                      "shadows.vssm_leaf_taps=0", *off])]
     elif c["effect"] == "reflections":
         r = c.get("roughness")

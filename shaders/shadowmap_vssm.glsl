@@ -46,7 +46,7 @@ layout(std430, binding = 5) readonly buffer Vprm { VssmParams v; };
 layout(binding = 6) uniform samplerBuffer hsm;
 layout(binding = 7) uniform usamplerBuffer sat1;  // the SATs of z
 layout(binding = 11) uniform usamplerBuffer sat2;  // and of (z − z0)²
-layout(std430, binding = 8) writeonly buffer Soft { float soft[]; };
+layout(std430, binding = 8) buffer Soft { float soft[]; };  // also the listed pixels' first z_avg
 layout(std430, binding = 9) buffer Stats { uint stats[]; };
 layout(std430, binding = 10) buffer Own { uint own[]; };
 layout(push_constant) uniform Push { ShadowmapPush pc; };
@@ -192,14 +192,13 @@ int hsm_verdict(vec3 q, vec4 g, vec2 lo, vec2 hi, float tw, out vec2 tr) {
 }
 
 // The blocker search over [a, b): whether it finds blockers, and their mean depth zavg.
-bool blocker_search(vec3 q, vec4 g, float tw, float unbias, vec2 a, vec2 b, out float zavg) {
+bool blocker_search(vec3 q, vec4 g, float tw, float unbias, vec2 a, vec2 b, int m, out float zavg) {
   // Blocker search (Algorithm 2, L11-L15): the whole kernel when it is planar (its mean depth
   // in front of the receiver), else m x m sub-kernels (§7.4.2), the planar ones' moments pooled
   // (eq. 7.5; see chebyshev for why here and not in the filter).
   float sA = 0.0, sT = 0.0;  // planar group: area, Σ E(z)T, Σ E(z²)T, Σ t T
   R sZ = R(0.0), sZ2 = R(0.0);
   float bPcf = 0.0, zPcf = 0.0;                   // non-planar group: blocker area, Σ z·area
-  int m = int(v.m);
   for (int iy = 0; iy < m; ++iy)
     for (int ix = 0; ix < m; ++ix) {
       vec2 lo, hi;
@@ -238,8 +237,8 @@ bool blocker_search(vec3 q, vec4 g, float tw, float unbias, vec2 a, vec2 b, out 
   return bVsm + bPcf > 0.0;
 }
 
-// The first dispatch ends at the HSM's verdict (Algorithm 2, L8-L10), the second takes the
-// pixels it leaves (sm_pixel_of).
+// The first dispatch ends at the HSM's verdict (Algorithm 2, L8-L10) or the first blocker
+// search, the second takes the pixels they leave (sm_pixel_of).
 void main() {
   p = p_in;
   uvec2 px;
@@ -271,18 +270,33 @@ void main() {
   vec2 zr = sm_hsm_range(a, b);
   if (zr.x >= base + lim) { sm_count(SHADOWMAP_STAT_SKIPPED); soft[i] = sm_input_edges(1.0, h_in, 0.0); return; }
   if (zr.y < base - lim) { sm_count(SHADOWMAP_STAT_SKIPPED); soft[i] = sm_input_edges(0.0, h_in, 0.0); return; }
-  if (!SM_OWN) { sm_own_append(i); return; }
+  // The first dispatch runs the first blocker search too: where it finds no blocker (most lit
+  // pixels) the receiver is lit; it lists the rest, their mean blocker depth left in soft[i] for
+  // the second dispatch, which narrows the search and filters. llvmpipe runs every lane through
+  // all the code there is, masked: the narrowing and the filter must not run for the pixels the
+  // first search settles (shadowmap_common.h's SM_OWN).
+  float zavg;
+  if (!SM_OWN) {
+    if (!blocker_search(q, g, tw, unbias, a, b, int(v.m_first), zavg)) {
+      sm_count(SHADOWMAP_STAT_SKIPPED);
+      soft[i] = sm_input_edges(1.0, h_in, 0.0);
+      return;
+    }
+    soft[i] = zavg;
+    sm_own_append(i);
+    return;
+  }
 
   // The search narrowed to the blockers' cone (vssm.cpp), while it shrinks: where the narrowed
   // box holds no blocker the receiver is lit, else its mean blocker depth is the new one.
-  float zavg;
-  bool found = blocker_search(q, g, tw, unbias, a, b, zavg);
+  zavg = soft[i];
+  bool found = true;
   float hs = max(rs, 0.5);
   for (uint pass = 0u; found && pass < v.narrow; ++pass) {
     float hn = sm_cone_box(k, zavg, q.z, VSSM_NARROW_MARGIN);
     if (hn >= hs) break;
     square(q, hn, a, b);
-    found = blocker_search(q, g, tw, unbias, a, b, zavg);
+    found = blocker_search(q, g, tw, unbias, a, b, int(v.m), zavg);
     hs = hn;
   }
   if (!found) { sm_count(SHADOWMAP_STAT_SKIPPED); soft[i] = sm_input_edges(1.0, h_in, 0.0); return; }

@@ -15,7 +15,8 @@ struct VssmParams {
   float z0;        // the SAT of (z − z0)²: z0, the map's mean depth
   float off1, scale1, off2, scale2;  // fixed point of the two SATs (sat_io.h)
   uint narrow;                       // shadows.vssm_narrow: narrowed blocker searches
-  uint pad0, pad1, pad2;
+  uint m_first;  // the first search's split (shadows.vssm_m_wide where narrowed ones follow)
+  uint pad1, pad2;
   HsmLevelsGpu hsm;  // the min-max HSM; its far_z: the map's farthest surface (depths clamped)
 };
 ISG_IO_END

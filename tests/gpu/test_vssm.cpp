@@ -124,6 +124,7 @@ TEST_F(Vssm, SubdivisionBeatsNoneOnStack) {
   const auto dir = isg::test::synth_case({"stack", 192, 108, 64, 1, 512}, "vssm-stack");
   // The filter alone: shadows.input_edges, which the default adds, takes both to about 0.030.
   const Err none = synth_error(ctx(), dir, {{"shadows.vssm_m", "1"},
+                                            {"shadows.vssm_m_wide", "1"},
                                             {"shadows.vssm_h", "0"},
                                             {"shadows.vssm_leaf_taps", "0"},
                                             {"shadows.input_edges", "0"}});

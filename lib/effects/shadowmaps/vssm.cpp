@@ -42,6 +42,9 @@ VssmSetup vssm_setup(const ShadowmapData& map) {
   return v;
 }
 
+// The first blocker search's split (shadows.vssm_m_wide where narrowed searches follow).
+int first_m(const ShadowmapSettings& s) { return s.vssm_narrow > 0 ? s.vssm_m_wide : s.vssm_m; }
+
 int leaf_grid(const ShadowmapSettings& s) {
   return s.vssm_leaf_taps <= 0 ? 0 : std::max(1, int(std::lround(std::sqrt(double(s.vssm_leaf_taps)))));
 }
@@ -163,10 +166,9 @@ struct VssmRef {
 
   // The blocker search over [a, b) (Algorithm 2, L11-L15): whether it finds blockers, and their
   // mean depth zavg.
-  bool blocker_search(const V3& q, const Plane& g, double tw, double unbias, F2 a, F2 b,
+  bool blocker_search(const V3& q, const Plane& g, double tw, double unbias, F2 a, F2 b, int m,
                       double& zavg) const {
     double sA = 0, sZ = 0, sZ2 = 0, sT = 0, bPcf = 0, zPcf = 0;
-    const int m = s.vssm_m;
     for (int iy = 0; iy < m; ++iy)
       for (int ix = 0; ix < m; ++ix) {
         F2 lo, hi;
@@ -227,13 +229,13 @@ struct VssmRef {
     if (zr[1] < base - lim) { ++st.skipped; return {0.0, 0.0}; }
     // The search narrowed to the blockers' cone (the top of the file), while it shrinks.
     double zavg = 0;
-    bool found = blocker_search(q, g, tw, unbias, a, b, zavg);
+    bool found = blocker_search(q, g, tw, unbias, a, b, first_m(s), zavg);
     double hs = std::max(rs, 0.5);
     for (int pass = 0; found && pass < s.vssm_narrow; ++pass) {
       const double hn = G.cone_box(k, zavg, q[2], VSSM_NARROW_MARGIN, s.max_radius);
       if (hn >= hs) break;
       square(q, hn, a, b);
-      found = blocker_search(q, g, tw, unbias, a, b, zavg);
+      found = blocker_search(q, g, tw, unbias, a, b, s.vssm_m, zavg);
       hs = hn;
     }
     if (!found) { ++st.skipped; return {1.0, 0.0}; }
@@ -299,6 +301,7 @@ shaders::VssmParams vssm_params(const ShadowmapSettings& s, const VssmSetup& v) 
   if (s.vssm_narrow < 0 || s.vssm_narrow > 4) throw std::invalid_argument("shadows.vssm_narrow out of range");
   shaders::VssmParams p{};
   p.m = uint32_t(s.vssm_m);
+  p.m_first = uint32_t(first_m(s));
   p.tree_h = uint32_t(s.vssm_h);
   p.leaf_grid = uint32_t(leaf_grid(s));
   p.flat_var = float(s.vssm_flat * s.scene_radius);

@@ -25,6 +25,7 @@ inline constexpr params::Number spread_bias{"shadows.spread_bias"};
 inline constexpr params::Number depth_ulps{"shadows.depth_ulps"};
 inline constexpr params::Number smap_max_radius{"shadows.smap_max_radius"};
 inline constexpr params::Int vssm_m{"shadows.vssm_m"};
+inline constexpr params::Int vssm_m_wide{"shadows.vssm_m_wide"};
 inline constexpr params::Int vssm_h{"shadows.vssm_h"};
 inline constexpr params::Int vssm_leaf_taps{"shadows.vssm_leaf_taps"};
 inline constexpr params::Number vssm_flat{"shadows.vssm_flat"};

@@ -143,6 +143,7 @@ ShadowmapSettings shadowmap_settings(const io::Light& light, const io::Camera* c
   s.max_radius = p.get(shadow_keys::smap_max_radius);
   s.scene_radius = scene_radius;
   s.vssm_m = int(p.get(shadow_keys::vssm_m));
+  s.vssm_m_wide = int(p.get(shadow_keys::vssm_m_wide));
   s.vssm_h = int(p.get(shadow_keys::vssm_h));
   s.vssm_leaf_taps = int(p.get(shadow_keys::vssm_leaf_taps));
   s.vssm_flat = p.get(shadow_keys::vssm_flat);

@@ -93,6 +93,7 @@ struct ShadowmapSettings {
   double scene_radius = 1.0;              // the scene file's scene_radius (r of §7.5.4-7.5.5)
   // vssm (thesis ch. 7)
   int vssm_m = 5;           // shadows.vssm_m: m×m uniform sub-kernels, blocker search (§7.4.2)
+  int vssm_m_wide = 3;      // shadows.vssm_m_wide: the first search's, where narrowed ones follow
   // shadows.vssm_h: quad-tree height H, shadow (Algorithm 3). 2: with each sub-kernel tested on
   // its own (shadowmap_vssm.glsl's chebyshev), H 3 -> 2 took own grazing 0.542 -> 0.490 of doing
   // nothing, grazing-sm4096 0.436 -> 0.434, lowlight 0.461 -> 0.462; the shared cases unchanged.
