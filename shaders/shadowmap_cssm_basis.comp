@@ -63,18 +63,20 @@ void main() {
   if (y >= bh) return;
   uvec4 ra = uvec4(0u), rb = uvec4(0u);
   uint rz = 0u;
+  // One block() a texel for every lane, the z part's too (its group's values unused): lavapipe
+  // runs every lane through both branches, so two calls cost every lane both.
+  uint j = min(part, half_g - 1u);
   for (uint x = 0u; x < bw; ++x) {
     vec4 a, b;
     float az;
     uint i = y * bw + x;
+    block(x, y, j, a, b, az);
     if (part < half_g) {
-      block(x, y, part, a, b, az);
       ra += uvec4(quant(a.x), quant(a.y), quant(a.z), quant(a.w));
       rb += uvec4(quant(b.x), quant(b.y), quant(b.z), quant(b.w));
       tabv[i * half_g + part] = ra;
       tabz[i * half_g + part] = rb;
     } else {
-      block(x, y, 0u, a, b, az);
       rz += quant(az);
       tz[i] = rz;
     }

@@ -9,8 +9,9 @@
 vec2 sm_hsm_range(vec2 flo, vec2 fhi) {
   ivec2 lo = ivec2(floor(flo)), hi = max(ivec2(ceil(fhi)), lo + 1);
   int size = max(hi.x - lo.x, hi.y - lo.y);
-  uint L = 0u;
-  while ((1 << L) < size && L + 1u < SM_HSM.levels) ++L;
+  // The least L with 2^L >= size, within the levels there are (no loop: lavapipe runs a loop
+  // as often as its slowest lane needs).
+  uint L = size <= 1 ? 0u : min(uint(findMSB(size - 1)) + 1u, SM_HSM.levels - 1u);
   ivec2 a = lo >> L, b = (hi - 1) >> L;
   vec2 r = vec2(1e30, -1e30);
   [[unroll]] for (int k = 0; k < 4; ++k) {
