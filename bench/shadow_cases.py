@@ -1,13 +1,14 @@
 #!/usr/bin/env python3
 """Issue 19's table: every shadow method on every Cycles case with a soft-shadow reference, from P
 and from Z. Per case, method and input: RMSE of `key.softshadow` against the case's converged Cycles
-soft shadow (ref/softshadow_key.exr) over its mask, and that RMSE as a ratio to doing nothing (the
-input's hard `key.shadow`, i.e. shadows.method=hard): below 1 is better than doing nothing.
+soft shadow (ref/softshadow_key.exr; a sun case's light is `sun`, its channels and reference named
+so) over its mask, and that RMSE as a ratio to doing nothing (the input's hard `key.shadow`, i.e.
+shadows.method=hard): below 1 is better than doing nothing.
 
 Inputs: "P" is the case's aovs.exr as it is (world positions from P); "Z" is the same file without
 P.X/P.Y/P.Z, so that isg forms positions from the planar depth Z and the scene file's camera.
 
-Cases: every folder with ref/softshadow_key.exr under --cases (default ../shared/cases) and under
+Cases: every folder with ref/softshadow_<light>.exr under --cases (default ../shared/cases) and under
 --own (default $ISG_OWN_CASES, else ../cases-own next to the repository: the repository's own
 Cycles cases, rendered by tools/cases/make_cases.sh); a folder that is absent is skipped.
 
@@ -27,7 +28,7 @@ over every pixel of both masks but Cycles' far acne: pixels its origin render li
 >= LIT, reference >= LIT_REF) that its far render's input shadows (key.shadow < LIT_REF).
 
 Writes bench/out/shadow_cases.json and docs/benchmark/shadow_cases.md."""
-import argparse, os, platform, re, subprocess, sys
+import argparse, glob, os, platform, re, subprocess, sys
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 sys.path.insert(0, HERE)
@@ -66,9 +67,16 @@ def find_cases():
             continue
         for name in sorted(os.listdir(root)):
             d = os.path.join(root, name)
-            if os.path.exists(os.path.join(d, "ref", "softshadow_key.exr")) and (not only or name in only):
+            if light_of(d) and (not only or name in only):
                 out.append((f"{origin} {name}", d))
     return out
+
+
+def light_of(case):
+    """The case's light (Cycles cases have one): the name of its ref/softshadow_<name>.exr (`key`,
+    or `sun` for a sun case); None where there is none."""
+    refs = sorted(glob.glob(os.path.join(case, "ref", "softshadow_*.exr")))
+    return os.path.basename(refs[0])[len("softshadow_"):-len(".exr")] if refs else None
 
 
 def z_only(t, case):
@@ -87,7 +95,8 @@ def z_only(t, case):
 
 def measure(t, label, case, methods, outs):
     """Every method from P and from Z; the outputs of ORIGIN and the far cases stay in `outs`."""
-    ref = f"{case}/ref/softshadow_key.exr"
+    light = light_of(case)
+    ref = f"{case}/ref/softshadow_{light}.exr"
     keep = os.path.join(a.keep, os.path.basename(case)) if a.keep else None
     if keep:
         os.makedirs(keep, exist_ok=True)
@@ -111,11 +120,11 @@ def measure(t, label, case, methods, outs):
                 continue
             res["device"] = r["device"]
             if m == "auto":  # the method it chose, and why (its printed line)
-                c = re.search(r"^shadows\[key\]: (\S+) \(auto: (.*)\)$", r["text"], re.M)
+                c = re.search(rf"^shadows\[{light}\]: (\S+) \(auto: (.*)\)$", r["text"], re.M)
                 res.setdefault("auto", {})[inp] = [c.group(1), c.group(2)] if c else ["?", ""]
             hard = res["rmse"].get(f"hard-{inp}")
             heat = os.path.join(keep, f"{key}.png") if keep else None
-            e = compare(t, r["out"], ref, ["key.softshadow"], "mask", heatmap=heat,
+            e = compare(t, r["out"], ref, [f"{light}.softshadow"], "mask", heatmap=heat,
                         heatmap_max=3 * hard if heat and hard else None)
             res["rmse"][key] = e["rmse"]
             if out:
@@ -317,7 +326,7 @@ if not a.from_json:
     methods = [m for m in a.methods.split(",") if m]
     found = find_cases()
     if not found:
-        raise SystemExit("shadow_cases: no case with ref/softshadow_key.exr found")
+        raise SystemExit("shadow_cases: no case with ref/softshadow_<light>.exr found")
     res = {"machine": platform.node(), "methods": methods, "cases": {}}
     outs = {}
     for label, d in found:

@@ -190,7 +190,7 @@ class Progress {
     if (tty_) std::cerr << "\r\x1b[K";
     std::cerr << "isg: error: " << msg << "\n";
   }
-  void finish() {
+  void finish() const {
     if (tty_) std::cerr << "\n";
   }
   size_t done() const { return done_; }

@@ -247,7 +247,8 @@ PYBIND11_MODULE(isg, m) {
   static py::exception<isg::io::IoError> io_error(m, "IoError", error.ptr());
   static py::exception<isg::params::ParamError> param_error(m, "ParamError", error.ptr());
   static py::exception<isg::gpu::GpuError> gpu_error(m, "GpuError", error.ptr());
-  py::register_exception_translator([](std::exception_ptr p) {
+  // pybind11's translator type takes std::exception_ptr by value.
+  py::register_exception_translator([](std::exception_ptr p) {  // NOLINT(performance-unnecessary-value-param)
     try {
       if (p) std::rethrow_exception(p);
     } catch (const isg::io::IoError& e) {

@@ -120,11 +120,9 @@ Summary summarize(const fs::path& log_dir) {
 int Summary::exit_code() const {
   bool usage = false, error = false;
   for (const auto& t : tasks) {
-    if (!t.exit) {
-      error = true;
-    } else if (*t.exit == kUsage) {
+    if (t.exit && *t.exit == kUsage) {
       usage = true;
-    } else if (*t.exit != kOk && *t.exit != kSomeFramesFailed) {
+    } else if (!t.exit || (*t.exit != kOk && *t.exit != kSomeFramesFailed)) {
       error = true;
     }
   }

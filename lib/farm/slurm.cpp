@@ -20,6 +20,7 @@ CommandResult run_command(const std::vector<std::string>& argv) {
   if (argv.empty() || ::pipe(fds) != 0)
     throw FarmError("cannot start a command: " + std::string(std::strerror(errno)));
   std::vector<char*> args;
+  args.reserve(argv.size() + 1);
   for (const auto& a : argv) args.push_back(const_cast<char*>(a.c_str()));
   args.push_back(nullptr);
   const pid_t pid = ::fork();

@@ -190,7 +190,7 @@ class Kernel {
  public:
   Kernel(Context& ctx, std::string name, std::span<const uint32_t> spirv,
          std::vector<Slot> slots, uint32_t push_bytes, uint32_t local_x, uint32_t local_y,
-         std::vector<uint32_t> constants = {});
+         const std::vector<uint32_t>& constants = {});
   Kernel(const Kernel&) = delete;
   Kernel& operator=(const Kernel&) = delete;
 

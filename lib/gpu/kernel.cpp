@@ -32,7 +32,7 @@ uint32_t texel_bytes(VkFormat f) {
 
 Kernel::Kernel(Context& ctx, std::string name, std::span<const uint32_t> spirv,
                std::vector<Slot> slots, uint32_t push_bytes, uint32_t local_x, uint32_t local_y,
-               std::vector<uint32_t> constants)
+               const std::vector<uint32_t>& constants)
     : name_(std::move(name)), slots_(std::move(slots)), push_bytes_(push_bytes),
       local_x_(local_x), local_y_(local_y),
       p_(ctx.pipeline(name_, spirv, slots_, push_bytes, constants)) {}

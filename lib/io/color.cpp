@@ -83,6 +83,7 @@ std::string color_config_description() {
 std::vector<std::string> color_spaces() {
   auto cfg = config();
   std::vector<std::string> out;
+  out.reserve(size_t(cfg->getNumColorSpaces()));
   for (int i = 0; i < cfg->getNumColorSpaces(); ++i) out.emplace_back(cfg->getColorSpaceNameByIndex(i));
   return out;
 }

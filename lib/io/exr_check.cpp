@@ -443,6 +443,7 @@ void decode_exr_in_child(const fs::path& path, const std::string& helper, const 
     args.push_back(p.name);
   }
   std::vector<char*> argv;
+  argv.reserve(args.size() + 1);
   for (auto& a : args) argv.push_back(a.data());
   argv.push_back(nullptr);
   pid_t pid = ::fork();

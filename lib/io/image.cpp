@@ -70,7 +70,7 @@ Channel& Image::set(const std::string& name, std::vector<float> data, Storage s)
 
 namespace {
 
-Storage storage_of(OIIO::TypeDesc t) {
+Storage storage_of(const OIIO::TypeDesc& t) {
   if (t == OIIO::TypeDesc::HALF) return Storage::half;
   if (t == OIIO::TypeDesc::FLOAT) return Storage::f32;
   return Storage::other;

@@ -185,6 +185,7 @@ Roles resolve_roles(const std::vector<std::string>& channels, const RoleRequest&
       std::vector<std::vector<std::string>> terms;
       for (const auto& t : spec.cycles) {
         std::vector<std::string> full;
+        full.reserve(t.size());
         for (const auto& n : t) full.push_back(out.layer + "." + n);
         if (spec.alpha_optional && !have.count(full.back())) full.pop_back();
         if (all_in(have, full)) terms.push_back(full);

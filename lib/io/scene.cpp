@@ -309,9 +309,8 @@ Light read_light(Reader r, const fs::path& scene_dir) {
     } else if (r.has("radius")) {
       l.radius = r.number("radius", 0.0, 1e30);
     }
-    if (l.type == LightType::disk || l.type == LightType::rect || l.type == LightType::spot) {
-      l.normal = r.unit3("normal");
-    } else if (r.has("normal")) {
+    if (l.type == LightType::disk || l.type == LightType::rect || l.type == LightType::spot ||
+        r.has("normal")) {  // required for those, read where given for the rest
       l.normal = r.unit3("normal");
     }
     if (l.type == LightType::rect) {

@@ -6,6 +6,8 @@ usage: post_case.py CASE OUTDIR WORKDIR   (as the shared script; make_cases.sh c
 - scene_radius: the shared script measures it to the corners of a floor centred at the origin;
   scenes with floor.loc get the same rule around their own floor (else a scene moved 1e5 m away
   would get a radius of 1e5 m, and every method that scales by it would change).
+- a spot key (scenes.py's key.spot_angle_deg): the shared script writes a sphere; the light becomes
+  the contract's `spot`, its axis `normal` from key.pos toward cam.target (as the map looks).
 - scenes marked `far`: the shared script's matrix checks assert sub-pixel reprojection of P,
   which float32 P cannot give far from the origin. The script is re-run with Python's -O (asserts
   off); the measured numbers still go into facts.json and the README.
@@ -49,6 +51,14 @@ def main():
             d["scene_radius"] = r
             json.dump(d, open(path, "w"), indent=2 if path.endswith("scene.json") else 1)
         print(f"scene_radius {r} (around the floor at {sc['floor']['loc']})")
+    if "spot_angle_deg" in sc.get("key", {}):
+        K = sc["key"]
+        axis = np.array(sc["cam"]["target"], np.float64) - np.array(K["pos"], np.float64)
+        d = json.load(open(f"{out}/scene.json"))
+        d["lights"][0].update(type="spot", normal=(axis / np.linalg.norm(axis)).tolist(),
+                              spot_angle_deg=K["spot_angle_deg"], spot_blend=K["spot_blend"])
+        json.dump(d, open(f"{out}/scene.json", "w"), indent=2)
+        print(f"spot: axis {d['lights'][0]['normal']}, cone {K['spot_angle_deg']} deg, blend {K['spot_blend']}")
     if sc.get("far"):
         f = json.load(open(f"{work}/facts.json"))
         print("matrix checks (reported, not asserted):", json.dumps({k: f[k] for k in ("cam_check", "sm_check")}))

@@ -64,6 +64,13 @@ def build(sc):
     for i, (k, p) in enumerate(objs):
         if "rot" in p:
             placed[i].rotation_euler = tuple(math.radians(a) for a in p["rot"])
+    K = sc.get("key", {})
+    if "spot_angle_deg" in K:   # a spot (scenes.py): the shared point key, its type changed and aimed
+        S["key"].data.type = "SPOT"
+        ld = S["key"].data
+        ld.spot_size = math.radians(K["spot_angle_deg"])
+        ld.spot_blend = K["spot_blend"]
+        rc.look_at(S["key"], K["pos"], sc["cam"]["target"])   # lights shine along -Z, as cameras look
     bpy.ops.object.select_all(action="DESELECT")
     bpy.context.view_layer.update()
     for i, (k, p) in enumerate(objs):

@@ -29,7 +29,8 @@ struct Attr {
 Attr matrix_attr(const std::string& name, const std::array<double, 16>& column_vector) {
   Attr a{name, Attr::Kind::m44};
   for (int r = 0; r < 4; ++r)
-    for (int c = 0; c < 4; ++c) a.m[size_t(c * 4 + r)] = float(column_vector[size_t(r * 4 + c)]);
+    for (int c = 0; c < 4; ++c)
+      a.m[size_t(c) * 4 + size_t(r)] = float(column_vector[size_t(r) * 4 + size_t(c)]);
   return a;
 }
 

@@ -186,7 +186,7 @@ double dof_cheap_fraction(const std::vector<float>& tiles) {
   if (tiles.empty()) return 0.0;
   size_t cheap = 0;
   for (size_t t = 3; t < tiles.size(); t += 4) cheap += tiles[t] != 0.0f;
-  return double(cheap) / double(tiles.size() / 4);
+  return double(cheap) / (double(tiles.size()) / 4.0);
 }
 
 std::vector<float> dof_isg_reference(const std::vector<float>& rgba, const std::vector<float>& coc,
@@ -397,10 +397,10 @@ shaders::DofPush push_of(const DofSettings& s, uint32_t w, uint32_t h, bool has_
 std::unique_ptr<gpu::Kernel> make_kernel(gpu::Context& ctx, const char* name,
                                          std::span<const uint32_t> spv,
                                          std::vector<gpu::Slot> slots,
-                                         std::vector<uint32_t> constants = {}) {
+                                         const std::vector<uint32_t>& constants = {}) {
   return std::make_unique<gpu::Kernel>(ctx, name, spv, std::move(slots),
                                        uint32_t(sizeof(shaders::DofPush)), DOF_LOCAL, DOF_LOCAL,
-                                       std::move(constants));
+                                       constants);
 }
 constexpr gpu::Slot B = gpu::Slot::buffer, T = gpu::Slot::texels;
 using Bind = gpu::Binding;

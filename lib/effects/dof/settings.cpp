@@ -40,7 +40,8 @@ DofSettings dof_settings(const io::Camera& cam, const std::string& units, const 
   s.rotation_deg = p.get(dof_keys::rotation);
   s.anamorphic = p.get(dof_keys::anamorphic);
   s.tile_skip = p.get(dof_keys::tile_skip);
-  const std::string source = p.get(dof_keys::coc_source), form = p.get(dof_keys::depth_form);
+  const std::string& source = p.get(dof_keys::coc_source);
+  const std::string& form = p.get(dof_keys::depth_form);
   s.coc_source = source == "channel" ? 1 : 0;
   if (s.coc_source == 1) s.lens.c_inf = p.get(dof_keys::coc_scale);  // the channel's gain
   s.depth_form = form == "normalized" ? 1 : form == "inverse" ? 2 : 0;

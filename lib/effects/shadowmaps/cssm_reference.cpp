@@ -48,12 +48,13 @@ class Prefiltered {
             for (int k = 0; k < u.M; ++k) {
               const double c = kPi * (2 * k + 1);
               const double cs = std::cos(c * zeta), sn = std::sin(c * zeta);
-              acc[size_t(k)] += cs;
-              acc[size_t(u.M + k)] += sn;
-              acc[size_t(2 * u.M + k)] += z * cs;
-              acc[size_t(3 * u.M + k)] += z * sn;
+              const size_t i = size_t(k), M = size_t(u.M);
+              acc[i] += cs;
+              acc[M + i] += sn;
+              acc[2 * M + i] += z * cs;
+              acc[3 * M + i] += z * sn;
             }
-            acc[size_t(4 * u.M)] += z;
+            acc[4 * size_t(u.M)] += z;
           }
         for (int l = 0; l < layers; ++l) base[size_t(l)][size_t(by) * W_ + bx] = acc[size_t(l)] / n;
       }

@@ -165,9 +165,9 @@ shaders::ShadowmapParams shadowmap_params(const ShadowmapSettings& s, const Shad
   p.light_z = float(inv[11]);
   const double e[3] = {double(p.light_x), double(p.light_y), double(p.light_z)};
   for (int r = 0; r < 3; ++r) {
-    for (int k = 0; k < 3; ++k) *L[r * 4 + k] = float(m[size_t(r * 4 + k)]);
-    *L[r * 4 + 3] = float(m[size_t(r * 4)] * e[0] + m[size_t(r * 4 + 1)] * e[1] +
-                          m[size_t(r * 4 + 2)] * e[2] + m[size_t(r * 4 + 3)]);
+    const size_t row = 4 * size_t(r);
+    for (int k = 0; k < 3; ++k) *L[r * 4 + k] = float(m[row + size_t(k)]);
+    *L[r * 4 + 3] = float(m[row] * e[0] + m[row + 1] * e[1] + m[row + 2] * e[2] + m[row + 3]);
   }
   // Perspective: tan of the half fields of view; orthographic (a sun): the half extents.
   const double tan_y = s.ortho ? 0.5 * s.height_m : std::tan(s.yfov_deg * kPi / 360.0);

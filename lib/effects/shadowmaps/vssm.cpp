@@ -265,22 +265,20 @@ struct VssmRef {
         const double t = threshold_at(q, g, lo, hi, tw);
         const double var = variance(mo.ez, mo.ez2);
         const bool flat_t = mo.ez < t && threshold_flat(q, g, lo, hi, tw, t - mo.ez);
-        if (mo.ez >= t && var < flat) {
+        // The shader's chain, its two lit and its two Chebyshev branches each as one: a leaf
+        // without PCF (plain) is lit behind the receiver and Chebyshev's in front of it.
+        const bool leaf = level >= s.vssm_h, plain = leaf && grid <= 0;
+        if (mo.ez >= t && (var < flat || plain)) {
           lA += mo.T;
-        } else if (flat_t) {
+        } else if (flat_t || (plain && mo.ez < t)) {
           fLit += mo.T * chebyshev(mo.ez, var, t + unbias);
           fA += mo.T;
-        } else if (level < s.vssm_h) {
+        } else if (!leaf) {
           down = true;
-        } else if (grid > 0) {
+        } else {
           double nb, zb;
           fLit += mo.T * pcf(lo, hi, grid, q, g, tw, s.reach * k, nb, zb);
           fA += mo.T;
-        } else if (mo.ez < t) {
-          fLit += mo.T * chebyshev(mo.ez, var, t + unbias);
-          fA += mo.T;
-        } else {
-          lA += mo.T;
         }
       }
       if (down) { ++level; nx *= 2; ny *= 2; continue; }
