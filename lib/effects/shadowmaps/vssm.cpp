@@ -1,7 +1,8 @@
 // Variance soft shadow maps (thesis ch. 7): the GPU method (passes shadows.vssm.hsm, the two
 // SATs, shadows.vssm) and its double-precision mirror. The per-pixel algorithm, the narrowed
 // blocker search (shadows.vssm_narrow) with it, is commented in shaders/shadowmap_vssm.glsl;
-// this file follows it line for line.
+// this file follows it line for line (its filter chain with the shader's repeated branches
+// merged).
 #include <algorithm>
 #include <cmath>
 #include <stdexcept>
